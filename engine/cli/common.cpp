@@ -1,0 +1,67 @@
+#include "common.hpp"
+
+#include <cstdio>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace pteromys::cli {
+
+const char* kAeroOptionsHelp =
+    "  --model MODEL.json   aerodynamic coefficient model (default: the shipped model)\n"
+    "  --height M           launch height of the standard launches [m] (default 1.5)\n"
+    "  --dz M               spacing of the wing-element cut lines [m] (default 0.005)\n"
+    "  --dt S               simulation time step [s] (default 0.002)\n"
+    "  --integrator NAME    verlet (default, as in the paper) or rk4\n";
+
+std::set<std::string> aero_valued_options() {
+  return {"--model", "--height", "--dz", "--dt", "--integrator"};
+}
+
+Setup load_setup(const Args& a) {
+  if (a.positional.empty()) throw InputError("missing GLIDER file (see --help)");
+  if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
+  Setup s;
+  s.glider = load_glider(a.positional[0]);
+  s.model = a.has("--model") ? load_model(a.get("--model")) : default_model();
+  s.aero.dz = a.number("--dz", s.aero.dz);
+  if (!(s.aero.dz > 0) || s.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
+  s.analysis.launch_height = a.number("--height", 1.5);
+  if (!(s.analysis.launch_height >= 0) || s.analysis.launch_height > 100)
+    throw InputError("--height must be between 0 and 100 m");
+  s.analysis.sim.dt = a.number("--dt", s.analysis.sim.dt);
+  if (!(s.analysis.sim.dt > 0) || s.analysis.sim.dt > 0.05) throw InputError("--dt must be in (0, 0.05] s");
+  const std::string integ = a.get("--integrator", "verlet");
+  if (integ == "verlet") s.analysis.sim.integrator = Integrator::Verlet;
+  else if (integ == "rk4") s.analysis.sim.integrator = Integrator::RK4;
+  else throw InputError("--integrator must be verlet or rk4, got '" + integ + "'");
+  return s;
+}
+
+std::string summary_text(const Flyability& f) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "mass " << f.mass.mass * 1000 << " g, CG (" << f.mass.cg.x << ", " << f.mass.cg.y << ") m\n";
+  s << (f.flyable ? "flyable" : "NOT flyable") << "\n";
+  for (const auto& r : f.reasons) s << "  - " << r << "\n";
+  if (f.glide.exists)
+    s << "steady glide: " << f.glide.speed << " m/s at alpha " << rad2deg(f.glide.gamma)
+      << " deg, glide ratio " << f.glide.ratio << ", static margin " << f.static_margin * 100 << " %\n";
+  for (const auto& l : f.launches)
+    s << "  launch " << l.launch.speed << " m/s, " << l.launch.climb_deg << " deg up: "
+      << l.flight.distance << " m in " << l.flight.flight_time << " s"
+      << (l.flight.stable ? "" : " (unstable)") << "\n";
+  for (const auto& w : f.warnings) s << "warning: " << w << "\n";
+  return s.str();
+}
+
+void check_writable(const std::string& path, const std::string& what) {
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  struct stat st {};
+  if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' does not exist");
+  if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    throw InputError("cannot write " + what + " '" + path + "': it is a directory");
+}
+
+}  // namespace pteromys::cli

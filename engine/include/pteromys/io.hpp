@@ -1,0 +1,55 @@
+// Files: glider, coefficient model, report, trajectories (spec/formats.md).
+// Only this layer and the command line touch the file system.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "pteromys/analysis.hpp"
+#include "pteromys/coefficients.hpp"
+#include "pteromys/glider.hpp"
+
+namespace pteromys {
+
+/// Parses a glider from JSON text (format "pteromys-glider/1"). Throws
+/// InputError naming the problem: malformed JSON, unknown format, missing key,
+/// wrong type, NaN or infinite number. Does not check geometry (see validate).
+Glider glider_from_json_text(const std::string& text);
+Glider glider_from_json(const nlohmann::json& j);
+nlohmann::json glider_to_json(const Glider& g);
+
+/// Reads and validates a glider file; messages start with the file name.
+Glider load_glider(const std::string& path);
+/// Writes a glider file atomically.
+void save_glider(const Glider& g, const std::string& path);
+
+/// Coefficient model files (format "pteromys-model/1", see docs/formats.md).
+std::shared_ptr<const CoefficientModel> model_from_json(const nlohmann::json& j);
+nlohmann::json model_to_json(const CoefficientModel& m);
+std::shared_ptr<const CoefficientModel> load_model(const std::string& path);
+void save_model(const CoefficientModel& m, const std::string& path);
+/// The model shipped with the project (models/default.model.json, found
+/// next to the executable, in the install prefix, or via PTEROMYS_MODEL).
+/// Falls back to the built-in empirical flat-plate element when no file exists.
+std::shared_ptr<const CoefficientModel> default_model();
+/// Where default_model() found its file ("" for the built-in fallback).
+std::string default_model_path();
+
+/// Report in format "pteromys-report/1".
+nlohmann::json report_to_json(const Flyability& f);
+
+/// Trajectories CSV: header launch,t_s,x_m,y_m,pitch_deg,speed_m_s.
+std::string trajectories_csv(const Flyability& f);
+
+/// Writes text to `path` through a temporary file and a rename, so that a
+/// failure never leaves a partly written file. Throws InputError on failure.
+void write_file_atomic(const std::string& path, const std::string& text);
+std::string read_file(const std::string& path);
+
+/// Parses JSON text; on failure throws InputError with line/column and, for
+/// NaN/Infinity literals, says that they are not valid JSON numbers.
+nlohmann::json parse_json(const std::string& text, const std::string& what);
+
+}  // namespace pteromys

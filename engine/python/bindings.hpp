@@ -1,0 +1,33 @@
+// Shared helpers of the binding files (one bind_<area>.cpp per area).
+#pragma once
+
+#include <memory>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "pteromys/analysis.hpp"
+#include "pteromys/coefficients.hpp"
+#include "pteromys/glider.hpp"
+#include "pteromys/version.hpp"
+
+namespace pteromys::python {
+namespace py = pybind11;
+using ModelPtr = std::shared_ptr<const CoefficientModel>;
+/// pybind11 holds models as shared_ptr<CoefficientModel>; they are never mutated.
+inline std::shared_ptr<CoefficientModel> mut(const ModelPtr& p) { return std::const_pointer_cast<CoefficientModel>(p); }
+
+/// A Glider from a Glider, a dict in the glider-file format, or a file path.
+Glider to_glider(const py::object& o);
+/// A model from None (the shipped default), a path, or a model object.
+ModelPtr to_model(const py::object& o);
+/// Trajectory as an (n x 9) array: t, x, y, pitch_deg, speed, alpha_deg, omega_deg_s, vx, vy.
+py::array_t<double> samples_array(const Flight& f);
+
+/// Binders of each area, run by PYBIND11_MODULE in `order`. Each
+/// bind_<area>.cpp registers itself with a static initialiser:
+///   static const bool reg = register_binder(10, bind_core);
+using Binder = void (*)(py::module_&);
+bool register_binder(int order, Binder b);
+
+}  // namespace pteromys::python

@@ -1,0 +1,221 @@
+#include "pteromys/flight.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace pteromys {
+namespace {
+
+inline double wrap(double a) {
+  a = std::fmod(a + kPi, 2 * kPi);
+  if (a < 0) a += 2 * kPi;
+  return a - kPi;
+}
+
+struct Deriv {
+  Vec2 a;
+  double alpha_dd = 0;
+};
+
+struct Integrand {
+  const AeroForces& aero;
+  RigidBody body;
+  double g;
+  Vec2 wind;
+  Deriv operator()(const FlightState& s) const {
+    FlightState air = s;
+    air.v = s.v - wind;
+    const Wrench w = aero.evaluate(air);
+    return {{w.force.x / body.mass, w.force.y / body.mass - g}, w.moment / body.inertia};
+  }
+};
+
+std::string fmt(double v, int prec = 3) {
+  std::ostringstream s;
+  s.precision(prec);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+double path_angle(const FlightState& s) { return -std::atan2(s.v.y, s.v.x); }
+double angle_of_attack(const FlightState& s) { return wrap(path_angle(s) + s.beta); }
+
+Wrench QuasiStaticAero::evaluate(const FlightState& s) const {
+  const double V = norm(s.v);
+  if (V < 1e-9) return {};
+  const double theta = path_angle(s);
+  const double gamma = wrap(theta + s.beta);
+  const GliderForces F = g_.forces(V, gamma);
+  const double c = std::cos(theta), sn = std::sin(theta);
+  // Drag opposes the velocity (cos theta, -sin theta); lift is perpendicular to it, upward.
+  return {{-F.drag * c + F.lift * sn, F.drag * sn + F.lift * c}, F.moment};
+}
+
+double QuasiStaticAero::max_alpha(const FlightState& s) const {
+  return g_.max_wing_alpha(angle_of_attack(s));
+}
+
+double QuasiStaticAero::alpha_limit() const { return g_.alpha_limit(); }
+
+std::vector<Launch> standard_launches(double height) {
+  std::vector<Launch> out;
+  for (double v : {7.0, 9.0, 11.0})
+    for (double a : {0.0, 10.0}) {
+      Launch l;
+      l.speed = v;
+      l.climb_deg = a;
+      l.height = height;
+      out.push_back(l);
+    }
+  return out;
+}
+
+FlightState launch_state(const Launch& l) {
+  FlightState s;
+  const double c = deg2rad(l.climb_deg);
+  s.p = {0.0, l.height};
+  s.v = {l.speed * std::cos(c), l.speed * std::sin(c)};
+  s.beta = l.pitch_from_path ? c : deg2rad(l.pitch_deg);
+  s.omega = deg2rad(l.pitch_rate_deg_s);
+  return s;
+}
+
+Flight simulate(const AeroForces& aero, const RigidBody& body, const Launch& launch,
+                const SimOptions& opt, double gravity) {
+  return simulate_from(aero, body, launch_state(launch), opt, gravity);
+}
+
+Flight simulate_from(const AeroForces& aero, const RigidBody& body, const FlightState& start,
+                     const SimOptions& opt, double gravity) {
+  if (!(body.mass > 0) || !(body.inertia > 0)) throw InputError("mass and inertia must be positive");
+  if (!(opt.dt > 0) || !(opt.t_max > 0)) throw InputError("time step and time limit must be positive");
+  const Integrand f{aero, body, gravity, opt.wind};
+  const double x0 = start.p.x;
+  const double h = opt.dt;
+  const int every = std::max(1, opt.record_every);
+  Flight out;
+  FlightState s = start;
+  auto sample = [&](const FlightState& st) {
+    FlightState air = st;
+    air.v = st.v - opt.wind;
+    FlightSample fs;
+    fs.t = st.t;
+    fs.x = st.p.x;
+    fs.y = st.p.y;
+    fs.pitch = st.beta;
+    fs.speed = norm(air.v);
+    fs.alpha = angle_of_attack(air);
+    fs.omega = st.omega;
+    fs.vx = st.v.x;
+    fs.vy = st.v.y;
+    return fs;
+  };
+  out.samples.push_back(sample(s));
+  Deriv d = f(s);
+  const double limit = aero.alpha_limit();
+  const double max_pitch = deg2rad(opt.max_pitch_deg);
+  const long nsteps = static_cast<long>(std::ceil(opt.t_max / h - 1e-9));
+  for (long step = 1; step <= nsteps; ++step) {
+    FlightState n = s;
+    if (opt.integrator == Integrator::Verlet) {
+      // Velocity Verlet; the force at the new position uses the predicted
+      // velocity (forces depend on velocity), one force evaluation per step.
+      n.p = s.p + h * s.v + (0.5 * h * h) * d.a;
+      n.beta = s.beta + h * s.omega + 0.5 * h * h * d.alpha_dd;
+      FlightState pred = n;
+      pred.v = s.v + h * d.a;
+      pred.omega = s.omega + h * d.alpha_dd;
+      pred.t = s.t + h;
+      const Deriv d1 = f(pred);
+      n.v = s.v + (0.5 * h) * (d.a + d1.a);
+      n.omega = s.omega + 0.5 * h * (d.alpha_dd + d1.alpha_dd);
+      d = d1;
+    } else {
+      auto add = [](const FlightState& a, const FlightState& k, double c) {
+        FlightState r = a;
+        r.p = a.p + c * k.v;
+        r.v = a.v + c * k.p;  // k.p carries the acceleration
+        r.beta = a.beta + c * k.omega;
+        r.omega = a.omega + c * k.beta;  // k.beta carries the angular acceleration
+        return r;
+      };
+      auto rate = [&](const FlightState& a) {
+        const Deriv dd = f(a);
+        FlightState k;
+        k.v = a.v;
+        k.p = dd.a;
+        k.omega = a.omega;
+        k.beta = dd.alpha_dd;
+        return k;
+      };
+      const FlightState k1 = rate(s);
+      const FlightState k2 = rate(add(s, k1, h / 2));
+      const FlightState k3 = rate(add(s, k2, h / 2));
+      const FlightState k4 = rate(add(s, k3, h));
+      n.p = s.p + (h / 6) * (k1.v + 2.0 * k2.v + 2.0 * k3.v + k4.v);
+      n.v = s.v + (h / 6) * (k1.p + 2.0 * k2.p + 2.0 * k3.p + k4.p);
+      n.beta = s.beta + h / 6 * (k1.omega + 2 * k2.omega + 2 * k3.omega + k4.omega);
+      n.omega = s.omega + h / 6 * (k1.beta + 2 * k2.beta + 2 * k3.beta + k4.beta);
+    }
+    n.t = start.t + step * h;
+
+    const bool finite = std::isfinite(n.p.x) && std::isfinite(n.p.y) && std::isfinite(n.v.x) &&
+                        std::isfinite(n.v.y) && std::isfinite(n.beta) && std::isfinite(n.omega);
+    if (!finite) {
+      out.stable = false;
+      out.end = FlightEnd::Unstable;
+      out.reason = "the simulation diverged (non-finite state) at t = " + fmt(n.t) + " s";
+      break;
+    }
+    FlightState air = n;
+    air.v = n.v - opt.wind;
+    const double am = aero.max_alpha(air);
+    out.max_alpha = std::max(out.max_alpha, am);
+    if (n.p.y <= 0 && s.p.y > 0) {
+      // Ground contact between the two steps: interpolate linearly in height.
+      const double fr = s.p.y / (s.p.y - n.p.y);
+      FlightState g = n;
+      g.t = s.t + fr * h;
+      g.p = s.p + fr * (n.p - s.p);
+      g.v = s.v + fr * (n.v - s.v);
+      g.beta = s.beta + fr * (n.beta - s.beta);
+      g.omega = s.omega + fr * (n.omega - s.omega);
+      g.p.y = 0;
+      out.samples.push_back(sample(g));
+      out.end = FlightEnd::Ground;
+      s = g;
+      break;
+    }
+    s = n;
+    if (am > limit) {
+      out.stable = false;
+      out.end = FlightEnd::Unstable;
+      out.reason = "angle of attack reached " + fmt(rad2deg(am), 3) + " deg at t = " + fmt(s.t) +
+                   " s, outside the model's range of +-" + fmt(rad2deg(limit), 3) +
+                   " deg (the glider stalls or tumbles)";
+      out.samples.push_back(sample(s));
+      break;
+    }
+    if (std::abs(s.beta) > max_pitch) {
+      out.stable = false;
+      out.end = FlightEnd::Unstable;
+      out.reason = "the glider flipped: pitch passed " + fmt(opt.max_pitch_deg) + " deg at t = " +
+                   fmt(s.t) + " s";
+      out.samples.push_back(sample(s));
+      break;
+    }
+    if (step == nsteps) {
+      out.end = FlightEnd::TimeLimit;
+      out.samples.push_back(sample(s));
+      break;
+    }
+    if (step % every == 0) out.samples.push_back(sample(s));
+  }
+  out.flight_time = s.t - start.t;
+  out.distance = s.p.x - x0;
+  return out;
+}
+
+}  // namespace pteromys

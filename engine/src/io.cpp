@@ -1,0 +1,405 @@
+#include "pteromys/io.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#ifndef PTEROMYS_SOURCE_DIR
+#define PTEROMYS_SOURCE_DIR ""
+#endif
+#ifndef PTEROMYS_INSTALL_DATADIR
+#define PTEROMYS_INSTALL_DATADIR ""
+#endif
+
+namespace pteromys {
+using nlohmann::json;
+
+namespace {
+
+// Reading JSON with messages that name the key path.
+struct Reader {
+  std::string where;  // "" or a prefix such as "glider file x.json: "
+
+  [[noreturn]] void fail(const std::string& msg) const { throw InputError(where + msg); }
+
+  const json& key(const json& obj, const char* k, const std::string& path) const {
+    if (!obj.is_object()) fail(path + " must be an object");
+    auto it = obj.find(k);
+    if (it == obj.end()) fail("missing key '" + (path.empty() ? std::string(k) : path + "." + k) + "'");
+    return *it;
+  }
+  double number(const json& v, const std::string& path) const {
+    if (v.is_null()) fail(path + " is null (NaN is not allowed)");
+    if (!v.is_number()) fail(path + " must be a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(path + " is not a finite number");
+    return d;
+  }
+  double number(const json& obj, const char* k, const std::string& path) const {
+    return number(key(obj, k, path), path.empty() ? std::string(k) : path + "." + k);
+  }
+  std::string string(const json& obj, const char* k, const std::string& path) const {
+    const json& v = key(obj, k, path);
+    if (!v.is_string()) fail((path.empty() ? std::string(k) : path + "." + k) + " must be a string");
+    return v.get<std::string>();
+  }
+  Polygon polygon(const json& v, const std::string& path) const {
+    if (!v.is_array()) fail(path + " must be a list of [x, y] pairs");
+    Polygon p;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string pi = path + "[" + std::to_string(i) + "]";
+      if (!v[i].is_array() || v[i].size() != 2) fail(pi + " must be a pair of numbers");
+      p.push_back({number(v[i][0], pi + "[0]"), number(v[i][1], pi + "[1]")});
+    }
+    return p;
+  }
+};
+
+}  // namespace
+
+json parse_json(const std::string& text, const std::string& what) {
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    static const std::regex bad(R"((^|[^A-Za-z_"])(NaN|-?Infinity|nan|-?inf)([^A-Za-z_"]|$))");
+    std::string msg = what + " is not valid JSON";
+    if (std::regex_search(text, bad))
+      msg += ": it contains NaN or Infinity, which are not numbers in JSON";
+    else {
+      std::string m = e.what();
+      const auto p = m.find("syntax error");
+      msg += " (" + (p == std::string::npos ? m : m.substr(p)) + ")";
+    }
+    throw InputError(msg);
+  } catch (const json::out_of_range& e) {
+    throw InputError(what + " holds a number that is not a finite number (too large for a double)");
+  }
+}
+
+std::string read_file(const std::string& path) {
+  struct stat st {};
+  if (stat(path.c_str(), &st) != 0) throw InputError("cannot read '" + path + "': no such file");
+  if (S_ISDIR(st.st_mode)) throw InputError("cannot read '" + path + "': it is a directory");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError("cannot read '" + path + "': permission denied or unreadable");
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw InputError("cannot write '" + path + "': directory missing or not writable");
+    f << text;
+    f.flush();
+    if (!f) {
+      f.close();
+      std::remove(tmp.c_str());
+      throw InputError("cannot write '" + path + "': write failed (disk full?)");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw InputError("cannot write '" + path + "': rename failed");
+  }
+}
+
+// ------------------------------------------------------------------ gliders
+
+Glider glider_from_json(const json& j) {
+  const Reader r;
+  if (!j.is_object()) r.fail("a glider file must hold a JSON object");
+  auto fit = j.find("format");
+  if (fit == j.end()) r.fail("missing key 'format' (expected \"pteromys-glider/1\")");
+  if (!fit->is_string() || fit->get<std::string>() != "pteromys-glider/1")
+    r.fail("unknown format " + fit->dump() + " (expected \"pteromys-glider/1\")");
+  Glider g;
+  if (auto it = j.find("name"); it != j.end() && it->is_string()) g.name = it->get<std::string>();
+  const json& mat = r.key(j, "material", "");
+  g.material.thickness_m = r.number(mat, "thickness_m", "material");
+  g.material.density_kg_m3 = r.number(mat, "density_kg_m3", "material");
+  const json& fus = r.key(j, "fuselage", "");
+  g.fuselage = r.polygon(r.key(fus, "outline_m", "fuselage"), "fuselage.outline_m");
+  const json& wings = r.key(j, "wings", "");
+  if (!wings.is_array()) r.fail("wings must be a list");
+  for (std::size_t i = 0; i < wings.size(); ++i) {
+    const std::string p = "wings[" + std::to_string(i) + "]";
+    Wing w;
+    w.name = r.string(wings[i], "name", p);
+    w.outline = r.polygon(r.key(wings[i], "outline_m", p), p + ".outline_m");
+    const json& m = r.key(wings[i], "mount", p);
+    w.mount.x_m = r.number(m, "x_m", p + ".mount");
+    w.mount.y_m = r.number(m, "y_m", p + ".mount");
+    w.mount.angle_deg = r.number(m, "angle_deg", p + ".mount");
+    g.wings.push_back(std::move(w));
+  }
+  if (auto it = j.find("ballast"); it != j.end()) {
+    if (!it->is_array()) r.fail("ballast must be a list");
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      const std::string p = "ballast[" + std::to_string(i) + "]";
+      const json& b = (*it)[i];
+      Ballast bl;
+      if (auto n = b.find("name"); b.is_object() && n != b.end() && n->is_string()) bl.name = n->get<std::string>();
+      bl.mass_kg = r.number(b, "mass_kg", p);
+      bl.x_m = r.number(b, "x_m", p);
+      bl.y_m = r.number(b, "y_m", p);
+      g.ballast.push_back(bl);
+    }
+  }
+  return g;
+}
+
+Glider glider_from_json_text(const std::string& text) {
+  return glider_from_json(parse_json(text, "the glider file"));
+}
+
+json glider_to_json(const Glider& g) {
+  auto poly = [](const Polygon& p) {
+    json a = json::array();
+    for (const auto& v : p) a.push_back({v.x, v.y});
+    return a;
+  };
+  json j;
+  j["format"] = "pteromys-glider/1";
+  j["name"] = g.name;
+  j["material"] = {{"thickness_m", g.material.thickness_m}, {"density_kg_m3", g.material.density_kg_m3}};
+  j["fuselage"] = {{"outline_m", poly(g.fuselage)}};
+  j["wings"] = json::array();
+  for (const auto& w : g.wings)
+    j["wings"].push_back({{"name", w.name},
+                          {"outline_m", poly(w.outline)},
+                          {"mount", {{"x_m", w.mount.x_m}, {"y_m", w.mount.y_m}, {"angle_deg", w.mount.angle_deg}}}});
+  j["ballast"] = json::array();
+  for (const auto& b : g.ballast)
+    j["ballast"].push_back({{"name", b.name}, {"mass_kg", b.mass_kg}, {"x_m", b.x_m}, {"y_m", b.y_m}});
+  return j;
+}
+
+Glider load_glider(const std::string& path) {
+  try {
+    Glider g = glider_from_json_text(read_file(path));
+    validate(g);
+    return g;
+  } catch (const InputError& e) {
+    std::string m = e.what();
+    if (m.rfind("cannot read", 0) == 0) throw;
+    throw InputError(path + ": " + m);
+  }
+}
+
+void save_glider(const Glider& g, const std::string& path) {
+  write_file_atomic(path, glider_to_json(g).dump(2) + "\n");
+}
+
+// ------------------------------------------------------------------- models
+
+namespace {
+FlatPlateParams flat_plate_from_json(const json& p, const Reader& r, const std::string& path) {
+  FlatPlateParams f;
+  auto opt = [&](const char* k, double& dst) {
+    if (p.contains(k)) dst = r.number(p.at(k), path + "." + k);
+  };
+  opt("aspect_ratio", f.aspect_ratio);
+  opt("section_lift_slope_per_rad", f.section_lift_slope);
+  opt("stall_deg", f.stall_deg);
+  opt("stall_width_deg", f.stall_width_deg);
+  opt("normal_force_90", f.normal_force_90);
+  opt("edge_drag", f.edge_drag);
+  opt("alpha_valid_deg", f.alpha_valid_deg);
+  if (!(f.aspect_ratio > 0) || !(f.section_lift_slope > 0) || !(f.stall_width_deg > 0) ||
+      !(f.alpha_valid_deg > 0) || !(f.alpha_valid_deg <= 90))
+    r.fail(path + ": aspect ratio, lift slope, stall width must be positive and alpha_valid_deg in (0, 90]");
+  return f;
+}
+json flat_plate_to_json(const FlatPlateParams& f) {
+  return {{"aspect_ratio", f.aspect_ratio},
+          {"section_lift_slope_per_rad", f.section_lift_slope},
+          {"stall_deg", f.stall_deg},
+          {"stall_width_deg", f.stall_width_deg},
+          {"normal_force_90", f.normal_force_90},
+          {"edge_drag", f.edge_drag},
+          {"alpha_valid_deg", f.alpha_valid_deg}};
+}
+}  // namespace
+
+std::shared_ptr<const CoefficientModel> model_from_json(const json& j) {
+  const Reader r;
+  if (!j.is_object()) r.fail("a model file must hold a JSON object");
+  auto fit = j.find("format");
+  if (fit == j.end() || !fit->is_string() || fit->get<std::string>() != "pteromys-model/1")
+    r.fail("unknown model format " + (fit == j.end() ? std::string("(missing)") : fit->dump()) +
+           " (expected \"pteromys-model/1\")");
+  const std::string type = r.string(j, "type", "");
+  if (type == "flat_plate") {
+    const json empty = json::object();
+    return std::make_shared<FlatPlateModel>(
+        flat_plate_from_json(j.contains("params") ? j.at("params") : empty, r, "params"));
+  }
+  if (type != "rbf") r.fail("unknown model type '" + type + "' (expected \"rbf\" or \"flat_plate\")");
+  const json& sc = r.key(j, "scales", "");
+  RbfScales s;
+  s.alpha = deg2rad(r.number(sc, "alpha_deg", "scales"));
+  s.re = r.number(sc, "re", "scales");
+  s.xi_l = deg2rad(r.number(sc, "xi_l_deg", "scales"));
+  s.xi_t = deg2rad(r.number(sc, "xi_t_deg", "scales"));
+  const double lim = deg2rad(r.number(j, "alpha_limit_deg", ""));
+  if (!(lim > 0) || lim > kPi / 2) r.fail("alpha_limit_deg must be in (0, 90]");
+  std::shared_ptr<const FlatPlateModel> prior;
+  if (auto it = j.find("prior"); it != j.end() && !it->is_null())
+    prior = std::make_shared<FlatPlateModel>(flat_plate_from_json(*it, r, "prior"));
+  const json& cs = r.key(j, "centres", "");
+  if (!cs.is_array() || cs.empty()) r.fail("centres must be a non-empty list");
+  std::vector<RbfCentre> centres;
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    const std::string p = "centres[" + std::to_string(i) + "]";
+    RbfCentre c;
+    c.alpha = deg2rad(r.number(cs[i], "alpha_deg", p));
+    c.re = r.number(cs[i], "re", p);
+    c.xi_l = deg2rad(r.number(cs[i], "xi_l_deg", p));
+    c.xi_t = deg2rad(r.number(cs[i], "xi_t_deg", p));
+    c.value.cd = r.number(cs[i], "cd", p);
+    c.value.cl = r.number(cs[i], "cl", p);
+    c.value.cm = r.number(cs[i], "cm", p);
+    centres.push_back(c);
+  }
+  return std::make_shared<RbfModel>(std::move(centres), s, lim, prior);
+}
+
+json model_to_json(const CoefficientModel& m) {
+  json j;
+  j["format"] = "pteromys-model/1";
+  j["type"] = m.kind();
+  if (const auto* f = dynamic_cast<const FlatPlateModel*>(&m)) {
+    j["params"] = flat_plate_to_json(f->params());
+  } else if (const auto* rb = dynamic_cast<const RbfModel*>(&m)) {
+    const RbfScales& s = rb->scales();
+    j["alpha_limit_deg"] = rad2deg(rb->alpha_limit());
+    j["scales"] = {{"alpha_deg", rad2deg(s.alpha)}, {"re", s.re}, {"xi_l_deg", rad2deg(s.xi_l)}, {"xi_t_deg", rad2deg(s.xi_t)}};
+    j["prior"] = rb->prior() ? flat_plate_to_json(rb->prior()->params()) : json(nullptr);
+    j["centres"] = json::array();
+    for (const auto& c : rb->centres())
+      j["centres"].push_back({{"alpha_deg", rad2deg(c.alpha)}, {"re", c.re}, {"xi_l_deg", rad2deg(c.xi_l)},
+                              {"xi_t_deg", rad2deg(c.xi_t)}, {"cd", c.value.cd}, {"cl", c.value.cl}, {"cm", c.value.cm}});
+  } else {
+    throw InputError("this model kind cannot be saved: " + m.kind());
+  }
+  return j;
+}
+
+std::shared_ptr<const CoefficientModel> load_model(const std::string& path) {
+  try {
+    return model_from_json(parse_json(read_file(path), "the model file"));
+  } catch (const InputError& e) {
+    std::string m = e.what();
+    if (m.rfind("cannot read", 0) == 0) throw;
+    throw InputError(path + ": " + m);
+  }
+}
+
+void save_model(const CoefficientModel& m, const std::string& path) {
+  write_file_atomic(path, model_to_json(m).dump(2) + "\n");
+}
+
+namespace {
+bool file_exists(const std::string& p) {
+  struct stat st {};
+  return !p.empty() && stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+std::string find_default_model() {
+  if (const char* env = std::getenv("PTEROMYS_MODEL"); env && *env) {
+    if (!file_exists(env)) throw InputError(std::string("PTEROMYS_MODEL names a missing file: ") + env);
+    return env;
+  }
+  const std::string rel = "models/default.model.json";
+  for (const std::string& dir : {std::string(PTEROMYS_INSTALL_DATADIR), std::string(PTEROMYS_SOURCE_DIR) + "/engine"}) {
+    if (dir.empty() || dir == "/engine") continue;
+    if (file_exists(dir + "/" + rel)) return dir + "/" + rel;
+  }
+  return "";
+}
+}  // namespace
+
+std::string default_model_path() { return find_default_model(); }
+
+std::shared_ptr<const CoefficientModel> default_model() {
+  const std::string p = find_default_model();
+  if (p.empty()) return std::make_shared<FlatPlateModel>();
+  return load_model(p);
+}
+
+// ------------------------------------------------------------------ reports
+
+json report_to_json(const Flyability& f) {
+  json j;
+  j["format"] = "pteromys-report/1";
+  j["mass_kg"] = f.mass.mass;
+  j["cg_m"] = {f.mass.cg.x, f.mass.cg.y};
+  j["inertia_kg_m2"] = f.mass.inertia;
+  j["mounts"] = json::array();
+  for (std::size_t i = 0; i < f.mounts.size(); ++i)
+    j["mounts"].push_back({{"wing", i < f.wing_names.size() ? f.wing_names[i] : std::to_string(i)},
+                           {"x_m", f.mounts[i].x_m},
+                           {"y_m", f.mounts[i].y_m},
+                           {"angle_deg", f.mounts[i].angle_deg}});
+  j["flyable"] = f.flyable;
+  j["reasons"] = f.reasons;
+  j["warnings"] = f.warnings;
+  j["pitch_stable"] = f.pitch_stable;
+  j["trim"] = json::array();
+  for (const auto& t : f.trim)
+    j["trim"].push_back({{"speed_m_s", t.v},
+                         {"alpha_deg", rad2deg(t.gamma)},
+                         {"lift_n", t.lift},
+                         {"drag_n", t.drag},
+                         {"dmoment_dalpha_n_m_per_rad", t.dmoment_dgamma}});
+  if (f.glide.exists)
+    j["glide"] = {{"alpha_deg", rad2deg(f.glide.gamma)},
+                  {"speed_m_s", f.glide.speed},
+                  {"glide_ratio", f.glide.ratio},
+                  {"sink_rate_m_s", f.glide.sink_rate},
+                  {"path_angle_deg", rad2deg(f.glide.path_angle)}};
+  else
+    j["glide"] = nullptr;
+  if (f.pitch_stable) {
+    j["neutral_point_x_m"] = f.neutral_point_x;
+    j["static_margin"] = f.static_margin;
+  } else {
+    j["neutral_point_x_m"] = nullptr;
+    j["static_margin"] = nullptr;
+  }
+  j["reference_chord_m"] = f.reference_chord;
+  j["launches"] = json::array();
+  for (const auto& l : f.launches) {
+    const char* end = l.flight.end == FlightEnd::Ground ? "ground"
+                      : l.flight.end == FlightEnd::TimeLimit ? "time_limit" : "unstable";
+    json e = {{"speed_m_s", l.launch.speed},
+              {"angle_deg", l.launch.climb_deg},
+              {"height_m", l.launch.height},
+              {"distance_m", l.flight.distance},
+              {"flight_time_s", l.flight.flight_time},
+              {"stable", l.flight.stable},
+              {"end", end},
+              {"max_alpha_deg", rad2deg(l.flight.max_alpha)}};
+    if (!l.flight.reason.empty()) e["reason"] = l.flight.reason;
+    j["launches"].push_back(e);
+  }
+  return j;
+}
+
+std::string trajectories_csv(const Flyability& f) {
+  std::ostringstream s;
+  s.precision(9);
+  s << "launch,t_s,x_m,y_m,pitch_deg,speed_m_s\n";
+  for (std::size_t i = 0; i < f.launches.size(); ++i)
+    for (const auto& p : f.launches[i].flight.samples)
+      s << i << ',' << p.t << ',' << p.x << ',' << p.y << ',' << rad2deg(p.pitch) << ',' << p.speed << '\n';
+  return s.str();
+}
+
+}  // namespace pteromys

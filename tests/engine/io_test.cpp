@@ -1,0 +1,117 @@
+#include "pteromys/io.hpp"
+
+#include <fstream>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "test_support.hpp"
+
+using namespace pteromys;
+
+// Every file of the broken corpus is rejected with its own message (the
+// fragment in tests/data/broken/expected.json), never a crash.
+TEST(GliderFiles, BrokenCorpusIsRejectedWithItsMessage) {
+  const auto expected = parse_json(read_file(test::source_path("tests/data/broken/expected.json")), "manifest");
+  ASSERT_GE(expected.size(), 20u);
+  for (const auto& [file, fragment] : expected.items()) {
+    const std::string path = test::source_path("tests/data/broken/" + file);
+    try {
+      load_glider(path);
+      ADD_FAILURE() << file << " was accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(fragment.get<std::string>()), std::string::npos)
+          << file << ": message was: " << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << file << ": message must be one line";
+    }
+  }
+}
+
+TEST(GliderFiles, MissingFileAndDirectoryAreNamed) {
+  try {
+    load_glider("/nonexistent/x.glider.json");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos);
+  }
+  EXPECT_THROW(load_glider("/tmp"), InputError);
+}
+
+// Writing and reading back gives the same glider (every example).
+TEST(GliderFiles, RoundTripPreservesEveryNumber) {
+  for (const auto& [path, g] : test::examples()) {
+    const Glider h = glider_from_json(glider_to_json(g));
+    ASSERT_EQ(h.wings.size(), g.wings.size());
+    EXPECT_EQ(h.name, g.name);
+    EXPECT_EQ(h.material.thickness_m, g.material.thickness_m);
+    for (std::size_t j = 0; j < g.wings.size(); ++j) {
+      EXPECT_EQ(h.wings[j].name, g.wings[j].name);
+      EXPECT_EQ(h.wings[j].mount.angle_deg, g.wings[j].mount.angle_deg);
+      ASSERT_EQ(h.wings[j].outline.size(), g.wings[j].outline.size());
+      for (std::size_t i = 0; i < g.wings[j].outline.size(); ++i) {
+        EXPECT_EQ(h.wings[j].outline[i].x, g.wings[j].outline[i].x);
+        EXPECT_EQ(h.wings[j].outline[i].y, g.wings[j].outline[i].y);
+      }
+    }
+    EXPECT_EQ(h.ballast.size(), g.ballast.size());
+  }
+}
+
+TEST(GliderFiles, AtomicWriteLeavesNoFileWhenDirectoryIsMissing) {
+  EXPECT_THROW(write_file_atomic("/nonexistent-dir/out.json", "x"), InputError);
+}
+
+// Model files: RBF and flat-plate models survive a round trip bit for bit in
+// their outputs.
+TEST(ModelFiles, RoundTripGivesTheSameCoefficients) {
+  std::vector<RbfCentre> cs{{deg2rad(4), 2e4, 0.1, -0.2, {0.05, 0.4, -0.01}},
+                            {deg2rad(12), 3e4, -0.3, 0.0, {0.12, 0.7, -0.05}}};
+  const RbfModel rbf(cs, RbfScales{}, deg2rad(30), std::make_shared<FlatPlateModel>());
+  FlatPlateParams fpp;
+  fpp.aspect_ratio = 3.3;
+  const FlatPlateModel fp(fpp);
+  for (const CoefficientModel* m : {static_cast<const CoefficientModel*>(&rbf), static_cast<const CoefficientModel*>(&fp)}) {
+    const auto back = model_from_json(parse_json(model_to_json(*m).dump(), "model"));
+    EXPECT_EQ(back->kind(), m->kind());
+    for (double a : {-0.3, -0.05, 0.0, 0.1, 0.25}) {
+      const ElementState e{a, 2.5e4, 0.2, -0.1};
+      const Coefficients x = m->eval(e), y = back->eval(e);
+      EXPECT_NEAR(x.cd, y.cd, 1e-12);
+      EXPECT_NEAR(x.cl, y.cl, 1e-12);
+      EXPECT_NEAR(x.cm, y.cm, 1e-12);
+    }
+  }
+}
+
+TEST(ModelFiles, BadModelFilesAreRejected) {
+  const char* bad[] = {
+      R"({"format": "pteromys-model/1", "type": "magic"})",
+      R"({"format": "other/1", "type": "rbf"})",
+      R"({"format": "pteromys-model/1", "type": "rbf", "alpha_limit_deg": 30,
+          "scales": {"alpha_deg": 8, "re": 20000, "xi_l_deg": 30, "xi_t_deg": 30}, "centres": []})",
+      R"({"format": "pteromys-model/1", "type": "rbf", "alpha_limit_deg": 30,
+          "scales": {"alpha_deg": 0, "re": 20000, "xi_l_deg": 30, "xi_t_deg": 30},
+          "centres": [{"alpha_deg": 1, "re": 1, "xi_l_deg": 0, "xi_t_deg": 0, "cd": 0, "cl": 0, "cm": 0}]})",
+      R"({"format": "pteromys-model/1", "type": "flat_plate", "params": {"aspect_ratio": -1}})",
+  };
+  for (const char* t : bad) EXPECT_THROW(model_from_json(parse_json(t, "model")), InputError) << t;
+}
+
+// The report carries every key of spec/formats.md with the right types.
+TEST(Report, HasTheSpecKeys) {
+  const auto g = test::examples().front().second;
+  std::vector<std::string> names;
+  for (const auto& w : g.wings) names.push_back(w.name);
+  const auto j = report_to_json(analyse(mount(g, default_model()), names));
+  EXPECT_EQ(j.at("format"), "pteromys-report/1");
+  for (const char* k : {"mass_kg", "inertia_kg_m2"}) EXPECT_TRUE(j.at(k).is_number()) << k;
+  EXPECT_EQ(j.at("cg_m").size(), 2u);
+  EXPECT_EQ(j.at("mounts").size(), g.wings.size());
+  EXPECT_TRUE(j.at("flyable").is_boolean());
+  EXPECT_TRUE(j.at("reasons").is_array());
+  ASSERT_EQ(j.at("launches").size(), 6u);
+  for (const auto& l : j.at("launches"))
+    for (const char* k : {"speed_m_s", "angle_deg", "height_m", "distance_m", "flight_time_s"})
+      EXPECT_TRUE(l.at(k).is_number()) << k;
+}

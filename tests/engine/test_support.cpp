@@ -1,0 +1,49 @@
+#include "test_support.hpp"
+
+#include <algorithm>
+#include <dirent.h>
+
+#include "pteromys/io.hpp"
+
+namespace pteromys::test {
+
+std::string source_path(const std::string& rel) { return std::string(PTEROMYS_SOURCE_DIR) + "/" + rel; }
+
+std::vector<std::string> example_paths() {
+  std::vector<std::string> out;
+  const std::string dir = source_path("examples/gliders");
+  if (DIR* d = opendir(dir.c_str())) {
+    while (dirent* e = readdir(d)) {
+      const std::string n = e->d_name;
+      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") out.push_back(dir + "/" + n);
+    }
+    closedir(d);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::vector<std::pair<std::string, Glider>> examples() {
+  std::vector<std::pair<std::string, Glider>> out;
+  for (const auto& p : example_paths()) out.emplace_back(p, load_glider(p));
+  return out;
+}
+
+Polygon rect(double x0, double y0, double x1, double y1) {
+  return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+Glider simple_glider(double c, double b, double x, double y, double angle_deg) {
+  Glider g;
+  g.name = "simple";
+  g.material = {0.001, 200.0};
+  g.fuselage = rect(-0.3, -0.01, 0.0, 0.01);
+  Wing w;
+  w.name = "main";
+  w.outline = rect(-c, -b / 2, 0.0, b / 2);
+  w.mount = {x, y, angle_deg};
+  g.wings.push_back(w);
+  return g;
+}
+
+}  // namespace pteromys::test

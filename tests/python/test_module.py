@@ -1,0 +1,85 @@
+"""The Python module: same results as the command, numpy in and out."""
+import json
+import math
+import threading
+
+import numpy as np
+import pytest
+
+import pteromys
+from conftest import EXAMPLES, load, run
+
+
+def test_module_reports_what_the_command_reports(tmp_path):
+    out = tmp_path / "r.json"
+    assert run(["evaluate", EXAMPLES[1], "--json", out]).returncode == 0
+    cli = load(out)
+    rep, flights = pteromys.evaluate(EXAMPLES[1])
+    assert rep["mass_kg"] == cli["mass_kg"]
+    assert [l["distance_m"] for l in rep["launches"]] == [l["distance_m"] for l in cli["launches"]]
+    assert len(flights) == 6 and flights[0].shape[1] == len(pteromys.TRAJECTORY_COLUMNS)
+
+
+def test_glider_accepts_dict_text_and_path():
+    d = load(EXAMPLES[0])
+    for src in (d, json.dumps(d), EXAMPLES[0]):
+        g = pteromys.glider(src)
+        assert g.wing_names == [w["name"] for w in d["wings"]]
+    assert pteromys.glider_dict(EXAMPLES[0])["wings"][0]["mount"] == d["wings"][0]["mount"]
+
+
+def test_bad_glider_raises_input_error_with_reason():
+    d = load(EXAMPLES[0])
+    d["wings"][0]["mount"]["y_m"] = 1.0
+    with pytest.raises(pteromys.InputError, match="does not touch the fuselage"):
+        pteromys.evaluate(d)
+    assert issubclass(pteromys.InputError, ValueError)
+    assert any("does not touch" in p for p in pteromys.validation_problems(d))
+
+
+def test_slice_wing_areas_sum_to_planform():
+    g = load(EXAMPLES[0])
+    outline = np.array(g["wings"][0]["outline_m"])
+    el = pteromys.slice_wing(outline, 0.005)
+    x, z = outline[:, 0], outline[:, 1]
+    shoelace = 0.5 * abs(np.dot(x, np.roll(z, -1)) - np.dot(np.roll(x, -1), z))
+    assert el["area"].sum() == pytest.approx(shoelace, rel=1e-12)
+
+
+def test_model_eval_broadcasts_and_keeps_parity():
+    m = pteromys.default_model()
+    a = np.linspace(-30, 30, 61)
+    cd, cl, cm = m.eval(a, 2e4)
+    assert cd.shape == a.shape
+    assert np.array_equal(cd, cd[::-1]) and np.array_equal(cl, -cl[::-1]) and np.array_equal(cm, -cm[::-1])
+
+
+def test_forces_tables_match_direct():
+    mg = pteromys.mount(EXAMPLES[0])
+    v, gam = np.meshgrid(np.linspace(6, 9, 4), np.linspace(-10, 10, 21))
+    t = mg.forces(v, gam)
+    d = mg.forces(v, gam, direct=True)
+    w = mg.mass_kg * 9.81
+    for a, b in zip(t, d):
+        assert np.max(np.abs(a - b)) < 2e-3 * max(w, np.max(np.abs(d[1])))
+
+
+def test_ballistic_flight_from_python_is_a_parabola():
+    f = pteromys.simulate(EXAMPLES[0], speed=8, climb_deg=20, ballistic=True)
+    s = f["samples"]
+    t = s[:-1, 0]
+    vx, vy = 8 * math.cos(math.radians(20)), 8 * math.sin(math.radians(20))
+    np.testing.assert_allclose(s[:-1, 1], vx * t, atol=1e-10)
+    np.testing.assert_allclose(s[:-1, 2], 1.5 + vy * t - 0.5 * 9.81 * t * t, atol=1e-10)
+
+
+def test_calls_from_threads_give_identical_results():
+    """Long calls release the GIL; results must not depend on concurrency."""
+    ref = pteromys.evaluate(EXAMPLES[2])[0]
+    results = []
+    ts = [threading.Thread(target=lambda: results.append(pteromys.evaluate(EXAMPLES[2])[0])) for _ in range(4)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    assert all(r == ref for r in results)
