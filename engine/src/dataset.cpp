@@ -1,0 +1,253 @@
+#include "pteromys/dataset.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+
+#include "pteromys/io.hpp"
+
+namespace pteromys {
+using nlohmann::json;
+
+namespace {
+
+std::string dirname_of(const std::string& p) {
+  const auto s = p.find_last_of('/');
+  if (s == std::string::npos) return ".";
+  return s == 0 ? "/" : p.substr(0, s);
+}
+
+std::string join(const std::string& dir, const std::string& rel) {
+  if (!rel.empty() && rel[0] == '/') return rel;
+  return dir + "/" + rel;
+}
+
+void make_dirs(const std::string& path) {
+  std::string cur;
+  std::stringstream ss(path);
+  std::string part;
+  if (!path.empty() && path[0] == '/') cur = "/";
+  while (std::getline(ss, part, '/')) {
+    if (part.empty()) continue;
+    cur += part + "/";
+    struct stat st {};
+    if (stat(cur.c_str(), &st) != 0 && mkdir(cur.c_str(), 0755) != 0)
+      throw InputError("cannot create directory '" + cur + "'");
+  }
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  // Plain CSV as the spec uses it (no quoted commas in names).
+  std::vector<std::string> out;
+  std::string cell;
+  std::stringstream ss(line);
+  while (std::getline(ss, cell, ',')) {
+    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
+    std::size_t b = 0;
+    while (b < cell.size() && cell[b] == ' ') ++b;
+    cell = cell.substr(b);
+    if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = cell.substr(1, cell.size() - 2);
+    out.push_back(cell);
+  }
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+double parse_number(const std::string& s, const std::string& where) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end == s.c_str() || *end != '\0') throw InputError(where + ": '" + s + "' is not a number");
+  if (!std::isfinite(v)) throw InputError(where + ": NaN or infinite value '" + s + "'");
+  return v;
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::vector<std::string> dataset_problems(const Dataset& d) {
+  std::vector<std::string> out;
+  for (double v : {d.frame_rate_hz, d.tracking_sigma_m, d.air_density, d.air_viscosity, d.gravity})
+    if (!std::isfinite(v) || v <= 0) {
+      out.push_back("frame_rate_hz, tracking_sigma_m, air density and viscosity and gravity must be positive numbers");
+      break;
+    }
+  std::set<std::string> names;
+  for (const auto& f : d.flights) {
+    const std::string w = "flight '" + f.name + "'";
+    if (f.name.empty()) out.push_back("a flight has no name");
+    if (!names.insert(f.name).second) out.push_back(w + " appears twice");
+    if (!d.gliders.count(f.glider)) out.push_back(w + " refers to unknown glider key '" + f.glider + "'");
+    if (f.points.size() < 6)
+      out.push_back(w + " has " + std::to_string(f.points.size()) + " points; at least 6 are needed");
+    for (std::size_t i = 0; i < f.points.size(); ++i) {
+      const auto& p = f.points[i];
+      if (!std::isfinite(p.t) || !std::isfinite(p.x) || !std::isfinite(p.y)) {
+        out.push_back(w + " point " + std::to_string(i) + " has a NaN or infinite value");
+        break;
+      }
+      if (i > 0 && !(p.t > f.points[i - 1].t)) {
+        out.push_back(w + ": time does not increase at point " + std::to_string(i) + " (t = " +
+                      fmt(f.points[i - 1].t) + " then " + fmt(p.t) + " s)");
+        break;
+      }
+    }
+  }
+  if (d.flights.empty()) out.push_back("the dataset has no flights");
+  return out;
+}
+
+Dataset load_dataset(const std::string& path) {
+  Dataset d;
+  const std::string dir = dirname_of(path);
+  json j;
+  try {
+    j = parse_json(read_file(path), "the dataset file");
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    throw InputError(m.rfind("cannot read", 0) == 0 ? m : path + ": " + m);
+  }
+  auto fail = [&](const std::string& m) { throw InputError(path + ": " + m); };
+  if (!j.is_object()) fail("a dataset file must hold a JSON object");
+  if (!j.contains("format") || !j["format"].is_string() || j["format"] != "pteromys-flights/1")
+    fail("unknown format " + (j.contains("format") ? j["format"].dump() : std::string("(missing)")) +
+         " (expected \"pteromys-flights/1\")");
+  auto num = [&](const char* k, double def, const json& obj, const std::string& pre) {
+    if (!obj.contains(k)) return def;
+    const json& v = obj.at(k);
+    if (!v.is_number()) fail(pre + k + " must be a number");
+    const double x = v.get<double>();
+    if (!std::isfinite(x) || x <= 0) fail(pre + k + " must be a positive number");
+    return x;
+  };
+  if (!j.contains("gliders") || !j["gliders"].is_object() || j["gliders"].empty())
+    fail("missing key 'gliders' (an object: key -> glider file)");
+  for (const auto& [k, v] : j["gliders"].items()) {
+    if (!v.is_string()) fail("gliders." + k + " must be a file path");
+    d.glider_files[k] = v.get<std::string>();
+    d.gliders[k] = load_glider(join(dir, v.get<std::string>()));
+  }
+  if (!j.contains("flights_csv") || !j["flights_csv"].is_string()) fail("missing key 'flights_csv'");
+  d.flights_csv = j["flights_csv"].get<std::string>();
+  d.frame_rate_hz = num("frame_rate_hz", 30.0, j, "");
+  d.tracking_sigma_m = num("tracking_sigma_m", 0.05, j, "");
+  if (j.contains("air")) {
+    if (!j["air"].is_object()) fail("air must be an object");
+    d.air_density = num("density_kg_m3", 1.2, j["air"], "air.");
+    d.air_viscosity = num("viscosity_pa_s", 1.8e-5, j["air"], "air.");
+  }
+  d.gravity = num("gravity_m_s2", 9.81, j, "");
+
+  const std::string csv_path = join(dir, d.flights_csv);
+  std::stringstream csv(read_file(csv_path));
+  std::string line;
+  long lineno = 0;
+  auto where = [&](long ln) { return csv_path + " line " + std::to_string(ln); };
+  std::vector<std::string> header;
+  while (std::getline(csv, line)) {
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    header = split_csv_line(line);
+    break;
+  }
+  const std::vector<std::string> need{"flight", "glider", "t_s", "x_m", "y_m"};
+  if (header.size() < 5 || !std::equal(need.begin(), need.end(), header.begin()))
+    throw InputError(where(lineno) + ": header must start with flight,glider,t_s,x_m,y_m");
+  d.extra_columns.assign(header.begin() + 5, header.end());
+  std::map<std::string, std::size_t> index;
+  std::string last;
+  while (std::getline(csv, line)) {
+    ++lineno;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    const auto cells = split_csv_line(line);
+    if (cells.size() < 5) throw InputError(where(lineno) + ": expected at least 5 columns");
+    if (cells.size() > header.size()) throw InputError(where(lineno) + ": more columns than the header");
+    const std::string& name = cells[0];
+    if (name.empty()) throw InputError(where(lineno) + ": empty flight name");
+    if (!d.gliders.count(cells[1]))
+      throw InputError(where(lineno) + ": unknown glider key '" + cells[1] + "' (dataset.json lists " +
+                       std::to_string(d.gliders.size()) + " gliders)");
+    auto it = index.find(name);
+    if (it == index.end()) {
+      index[name] = d.flights.size();
+      TrackedFlight f;
+      f.name = name;
+      f.glider = cells[1];
+      for (std::size_t c = 5; c < cells.size(); ++c)
+        if (!cells[c].empty()) f.extra[header[c]] = cells[c];
+      d.flights.push_back(std::move(f));
+      it = index.find(name);
+    } else if (last != name) {
+      throw InputError(where(lineno) + ": rows of flight '" + name + "' are not together");
+    }
+    TrackedFlight& f = d.flights[it->second];
+    if (f.glider != cells[1])
+      throw InputError(where(lineno) + ": flight '" + name + "' changes glider from '" + f.glider + "' to '" + cells[1] + "'");
+    TrackedPoint p{parse_number(cells[2], where(lineno) + " t_s"), parse_number(cells[3], where(lineno) + " x_m"),
+                   parse_number(cells[4], where(lineno) + " y_m")};
+    if (!f.points.empty() && !(p.t > f.points.back().t))
+      throw InputError(where(lineno) + ": time does not increase in flight '" + name + "'");
+    f.points.push_back(p);
+    last = name;
+  }
+  auto problems = dataset_problems(d);
+  if (!problems.empty()) throw InputError(path + ": " + problems.front());
+  return d;
+}
+
+void save_dataset(const Dataset& d, const std::string& dir) {
+  auto problems = dataset_problems(d);
+  for (const auto& [k, f] : d.glider_files)
+    if (!d.gliders.count(k)) problems.push_back("glider file given for unknown key '" + k + "'");
+  if (!problems.empty()) throw InputError("cannot write the dataset: " + problems.front());
+  make_dirs(dir);
+  json gl = json::object();
+  for (const auto& [k, g] : d.gliders) {
+    auto it = d.glider_files.find(k);
+    const std::string rel = it != d.glider_files.end() ? it->second : "gliders/" + k + ".glider.json";
+    gl[k] = rel;
+    make_dirs(dirname_of(join(dir, rel)));
+    save_glider(g, join(dir, rel));
+  }
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "flight,glider,t_s,x_m,y_m";
+  for (const auto& c : d.extra_columns) csv << "," << c;
+  csv << "\n";
+  for (const auto& f : d.flights)
+    for (std::size_t i = 0; i < f.points.size(); ++i) {
+      const auto& p = f.points[i];
+      csv << f.name << "," << f.glider << "," << p.t << "," << p.x << "," << p.y;
+      for (const auto& c : d.extra_columns) {
+        auto e = f.extra.find(c);
+        csv << "," << (e == f.extra.end() ? "" : e->second);
+      }
+      csv << "\n";
+    }
+  write_file_atomic(join(dir, d.flights_csv), csv.str());
+  json j = {{"format", "pteromys-flights/1"},
+            {"gliders", gl},
+            {"flights_csv", d.flights_csv},
+            {"frame_rate_hz", d.frame_rate_hz},
+            {"tracking_sigma_m", d.tracking_sigma_m},
+            {"air", {{"density_kg_m3", d.air_density}, {"viscosity_pa_s", d.air_viscosity}}},
+            {"gravity_m_s2", d.gravity}};
+  write_file_atomic(join(dir, "dataset.json"), j.dump(2) + "\n");
+}
+
+std::vector<const TrackedFlight*> flights_of(const Dataset& d, const std::string& key) {
+  std::vector<const TrackedFlight*> out;
+  for (const auto& f : d.flights)
+    if (f.glider == key) out.push_back(&f);
+  return out;
+}
+
+}  // namespace pteromys
