@@ -1,1 +1,79 @@
-int main(){}
+// Issue 2 benchmark: for every example glider, time to build the wing force
+// tables (slicing included), to evaluate F(V, gamma) on the paper's 4 x 21
+// grid over Omega, and to simulate the six standard launches.
+// Targets on the 2-core machine: tables <= 5 ms, F grid <= 0.2 ms,
+// six launches <= 1 ms (medians). Run: build/bench/bench_core
+#include <benchmark/benchmark.h>
+
+#include <dirent.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "pteromys/analysis.hpp"
+#include "pteromys/io.hpp"
+#include "pteromys/optimize.hpp"
+
+using namespace pteromys;
+
+namespace {
+
+std::vector<std::string> examples() {
+  std::vector<std::string> out;
+  const std::string dir = std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders";
+  if (DIR* d = opendir(dir.c_str())) {
+    while (dirent* e = readdir(d)) {
+      const std::string n = e->d_name;
+      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") out.push_back(dir + "/" + n);
+    }
+    closedir(d);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string short_name(const std::string& p) {
+  const auto s = p.find_last_of('/');
+  return p.substr(s + 1, p.size() - s - 1 - 12);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const auto model = default_model();
+  for (const auto& path : examples()) {
+    const Glider g = load_glider(path);
+    const std::string n = short_name(path);
+    benchmark::RegisterBenchmark(("tables/" + n).c_str(), [g, model](benchmark::State& st) {
+      for (auto _ : st) {
+        GliderAero a(g, model);
+        benchmark::DoNotOptimize(a.table(0).nv());
+      }
+    });
+    // Launches of the optimised design (long, realistic flights), not of the
+    // file's first-guess mounts (which mostly loop and end early).
+    const Glider opt = optimize(g, model).glider;
+    auto mg = std::make_shared<MountedGlider>(mount(opt, model));
+    benchmark::RegisterBenchmark(("F_grid_4x21/" + n).c_str(), [mg](benchmark::State& st) {
+      for (auto _ : st) {
+        double s = 0;
+        for (int k = 0; k < 4; ++k)
+          for (int i = 0; i < 21; ++i) s += mg->forces(6 + k, deg2rad(-10 + i)).moment;
+        benchmark::DoNotOptimize(s);
+      }
+    });
+    benchmark::RegisterBenchmark(("six_launches/" + n).c_str(), [mg](benchmark::State& st) {
+      const QuasiStaticAero qa(*mg);
+      const RigidBody body{mg->mass().mass, mg->mass().inertia};
+      SimOptions o;
+      o.record_every = 5;
+      for (auto _ : st)
+        for (const Launch& l : standard_launches(1.5)) benchmark::DoNotOptimize(simulate(qa, body, l, o).distance);
+    });
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

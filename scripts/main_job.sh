@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The main job on a bundled example: set up, build, then evaluate the glider
-# and write its report, trajectories and a plot of the standard launches.
+# The main job on a bundled example: set up, build, then optimise the glider's
+# mounting and write the optimised glider, its flyability report, the
+# trajectories of the six standard launches and a plot of them.
 #   scripts/main_job.sh [GLIDER.glider.json] [OUT_DIR]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -12,7 +13,9 @@ mkdir -p "$OUT"
 PT="$ROOT/build/bin/pteromys"
 export PYTHONPATH="$ROOT/build/python${PYTHONPATH:+:$PYTHONPATH}"
 
-echo "== evaluating $GLIDER"
-"$PT" evaluate "$GLIDER" --json "$OUT/report.json" --csv "$OUT/trajectories.csv"
+echo "== evaluating $GLIDER as drawn"
+"$PT" evaluate "$GLIDER" --json "$OUT/report_as_drawn.json" --quiet
+echo "== optimising its mounting"
+"$PT" optimize "$GLIDER" -o "$OUT/optimized.glider.json" --json "$OUT/report.json" --csv "$OUT/trajectories.csv"
 /usr/bin/python3 -m pteromys.plot "$OUT/report.json" "$OUT/trajectories.csv" "$OUT/launches.png"
-echo "== wrote $OUT/report.json, $OUT/trajectories.csv, $OUT/launches.png"
+echo "== wrote $OUT/optimized.glider.json, report.json, trajectories.csv, launches.png"

@@ -66,31 +66,49 @@ WingTable::WingTable(const WingElements& el, const CoefficientModel& model, cons
     }
 }
 
-WingCoefs WingTable::lookup(double v, double alpha) const {
-  int iv, ia;
-  double tv, ta;
-  locate((std::log(std::max(v, 1e-9)) - lv0_) / dlv_, nv_, &iv, &tv);
+WingTable::SpeedWeights WingTable::speed_weights(double v) const {
+  SpeedWeights sw;
+  double tv;
+  locate((std::log(std::max(v, 1e-9)) - lv0_) / dlv_, nv_, &sw.iv, &tv);
+  catmull_rom(tv, sw.w);
+  return sw;
+}
+
+WingCoefs WingTable::lookup(const SpeedWeights& sw, double alpha) const {
+  int ia;
+  double ta;
   locate((alpha - a0_) / da_, na_, &ia, &ta);
-  double wv[4], wa[4];
-  catmull_rom(tv, wv);
+  double wa[4];
   catmull_rom(ta, wa);
   WingCoefs c;
+  const bool inner = ia >= 1 && ia + 2 < na_;
   for (int p = 0; p < 4; ++p) {
-    const int jv = std::clamp(iv - 1 + p, 0, nv_ - 1);
+    const int jv = std::clamp(sw.iv - 1 + p, 0, nv_ - 1);
     double rd = 0, rl = 0, rm = 0;
     const std::size_t row = static_cast<std::size_t>(jv) * na_;
-    for (int q = 0; q < 4; ++q) {
-      const int ja = std::clamp(ia - 1 + q, 0, na_ - 1);
-      rd += wa[q] * d_[row + ja];
-      rl += wa[q] * l_[row + ja];
-      rm += wa[q] * m_[row + ja];
+    if (inner) {
+      const double* d = &d_[row + ia - 1];
+      const double* l = &l_[row + ia - 1];
+      const double* m = &m_[row + ia - 1];
+      rd = wa[0] * d[0] + wa[1] * d[1] + wa[2] * d[2] + wa[3] * d[3];
+      rl = wa[0] * l[0] + wa[1] * l[1] + wa[2] * l[2] + wa[3] * l[3];
+      rm = wa[0] * m[0] + wa[1] * m[1] + wa[2] * m[2] + wa[3] * m[3];
+    } else {
+      for (int q = 0; q < 4; ++q) {
+        const int ja = std::clamp(ia - 1 + q, 0, na_ - 1);
+        rd += wa[q] * d_[row + ja];
+        rl += wa[q] * l_[row + ja];
+        rm += wa[q] * m_[row + ja];
+      }
     }
-    c.drag += wv[p] * rd;
-    c.lift += wv[p] * rl;
-    c.moment += wv[p] * rm;
+    c.drag += sw.w[p] * rd;
+    c.lift += sw.w[p] * rl;
+    c.moment += sw.w[p] * rm;
   }
   return c;
 }
+
+WingCoefs WingTable::lookup(double v, double alpha) const { return lookup(speed_weights(v), alpha); }
 
 WingCoefs wing_coefs_direct(const WingElements& el, const CoefficientModel& model,
                             const Environment& env, double v, double alpha) {
@@ -139,12 +157,17 @@ GliderForces MountedGlider::wing_forces(std::size_t j, double v, double gamma) c
 
 GliderForces MountedGlider::forces(double v, double gamma) const {
   const double q = 0.5 * aero_->environment().air_density * v * v;
+  const double c = std::cos(gamma), s = std::sin(gamma);
   GliderForces f;
+  // Every wing's table has the same speed grid: interpolation weights once.
+  const WingTable::SpeedWeights sw = aero_->table(0).speed_weights(v);
   for (std::size_t j = 0; j < theta_.size(); ++j) {
-    const GliderForces w = combine(j, aero_->table(j).lookup(v, gamma + theta_[j]), q, gamma);
-    f.drag += w.drag;
-    f.lift += w.lift;
-    f.moment += w.moment;
+    const WingCoefs w = aero_->table(j).lookup(sw, gamma + theta_[j]);
+    const double fd = q * w.drag, fl = q * w.lift;
+    const double px = c * arm_[j].x - s * arm_[j].y, py = s * arm_[j].x + c * arm_[j].y;
+    f.drag += fd;
+    f.lift += fl;
+    f.moment += q * w.moment + px * fl + py * fd;
   }
   return f;
 }

@@ -180,6 +180,10 @@ Flyability analyse(const MountedGlider& g, const std::vector<std::string>& names
     r.neutral_point_x = neutral_point(g, vref, r.glide.gamma);
     if (std::isfinite(r.neutral_point_x) && r.reference_chord > 0)
       r.static_margin = (r.mass.cg.x - r.neutral_point_x) / r.reference_chord;
+    if (std::isfinite(r.static_margin) && r.static_margin < 0.03)
+      r.warnings.push_back("the static margin is only " + fmt(100 * r.static_margin, 2) +
+                           " % of the main chord: the glider is nearly neutral in pitch and small building "
+                           "errors may make it unstable; move the centre of gravity forward or enlarge the tail");
     if (r.glide.speed > opt.max_trim_speed)
       r.reasons.push_back("the wings are too small for the weight: a steady glide needs " +
                           fmt(r.glide.speed) + " m/s, more than a hand launch gives (" +

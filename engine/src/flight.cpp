@@ -2,14 +2,18 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace pteromys {
 namespace {
 
 inline double wrap(double a) {
-  a = std::fmod(a + kPi, 2 * kPi);
-  if (a < 0) a += 2 * kPi;
-  return a - kPi;
+  if (a > kPi || a <= -kPi) {  // rare: only after a loop
+    a = std::fmod(a + kPi, 2 * kPi);
+    if (a < 0) a += 2 * kPi;
+    a -= kPi;
+  }
+  return a;
 }
 
 struct Deriv {
@@ -26,7 +30,31 @@ struct Integrand {
     FlightState air = s;
     air.v = s.v - wind;
     const Wrench w = aero.evaluate(air);
-    return {{w.force.x / body.mass, w.force.y / body.mass - g}, w.moment / body.inertia};
+    if (!aero.has_added_mass())
+      return {{w.force.x / body.mass, w.force.y / body.mass - g}, w.moment / body.inertia};
+    // Added mass: (diag(M, M, I) + m) q'' = F + bias + gravity (Gaussian
+    // elimination with partial pivoting on the 3 x 3 system).
+    const AddedMass am = aero.added_mass(air);
+    double a[3][4] = {{body.mass + am.m[0][0], am.m[0][1], am.m[0][2], w.force.x + am.bias[0]},
+                      {am.m[1][0], body.mass + am.m[1][1], am.m[1][2], w.force.y + am.bias[1] - body.mass * g},
+                      {am.m[2][0], am.m[2][1], body.inertia + am.m[2][2], w.moment + am.bias[2]}};
+    for (int c = 0; c < 3; ++c) {
+      int piv = c;
+      for (int r = c + 1; r < 3; ++r)
+        if (std::abs(a[r][c]) > std::abs(a[piv][c])) piv = r;
+      for (int k = 0; k < 4; ++k) std::swap(a[c][k], a[piv][k]);
+      for (int r = c + 1; r < 3; ++r) {
+        const double f = a[r][c] / a[c][c];
+        for (int k = c; k < 4; ++k) a[r][k] -= f * a[c][k];
+      }
+    }
+    double q[3];
+    for (int r = 2; r >= 0; --r) {
+      double v = a[r][3];
+      for (int k = r + 1; k < 3; ++k) v -= a[r][k] * q[k];
+      q[r] = v / a[r][r];
+    }
+    return {{q[0], q[1]}, q[2]};
   }
 };
 
@@ -48,7 +76,7 @@ Wrench QuasiStaticAero::evaluate(const FlightState& s) const {
   const double theta = path_angle(s);
   const double gamma = wrap(theta + s.beta);
   const GliderForces F = g_.forces(V, gamma);
-  const double c = std::cos(theta), sn = std::sin(theta);
+  const double c = s.v.x / V, sn = -s.v.y / V;  // cos and sin of theta
   // Drag opposes the velocity (cos theta, -sin theta); lift is perpendicular to it, upward.
   return {{-F.drag * c + F.lift * sn, F.drag * sn + F.lift * c}, F.moment};
 }

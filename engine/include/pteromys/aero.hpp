@@ -35,9 +35,17 @@ struct TableGrid {
 /// grid are clamped to it.
 class WingTable {
  public:
+  /// Interpolation weights of one speed on the (shared) speed grid: compute
+  /// once per time step, use for every wing with the same grid.
+  struct SpeedWeights {
+    int iv = 0;
+    double w[4] = {0, 0, 0, 0};
+  };
   WingTable(const WingElements& el, const CoefficientModel& model, const Environment& env,
             const TableGrid& grid = {});
   WingCoefs lookup(double v, double alpha) const;
+  SpeedWeights speed_weights(double v) const;
+  WingCoefs lookup(const SpeedWeights& sw, double alpha) const;
   double alpha_limit() const { return alpha_max_; }
   int nv() const { return nv_; }
   int na() const { return na_; }
