@@ -40,6 +40,18 @@ FlatPlateModel::FlatPlateModel(FlatPlateParams p) : p_(p) {
   // Helmbold's lift slope of a wing of aspect ratio A from the section slope a0.
   const double k = p_.section_lift_slope / (kPi * p_.aspect_ratio);
   lift_slope_ = p_.section_lift_slope / (std::sqrt(1 + k * k) + k);
+  if (p_.normal_force_90 > 0) {
+    cn90_ = p_.normal_force_90;
+  } else {
+    // Hoerner's finite flat plates broadside to the flow, piecewise linear in 1/A.
+    static const double inv_a[] = {0.0, 1.0 / 20, 1.0 / 10, 1.0 / 5, 1.0};
+    static const double cn[] = {1.98, 1.50, 1.29, 1.20, 1.17};
+    const double x = std::min(1.0, 1.0 / std::max(1.0, p_.aspect_ratio));
+    int i = 0;
+    while (i < 3 && x > inv_a[i + 1]) ++i;
+    const double t = (x - inv_a[i]) / (inv_a[i + 1] - inv_a[i]);
+    cn90_ = cn[i] + t * (cn[i + 1] - cn[i]);
+  }
 }
 
 double FlatPlateModel::friction_drag(double re) {
@@ -57,7 +69,8 @@ Coefficients FlatPlateModel::eval_alpha(double alpha) const {
   const double a = std::abs(alpha);
   const double sa = std::sin(a), ca = std::cos(a);
   const double cn_att = lift_slope_ * sa;
-  const double cn_sep = p_.normal_force_90 * sa / (0.56 + 0.44 * sa);
+  // Separation can only lose normal force, never gain it.
+  const double cn_sep = std::min(cn90_ * sa / (0.56 + 0.44 * sa), cn_att);
   // C1 smoothstep over [stall - width, stall + width]: exactly attached flow
   // below, exactly separated flow above.
   const double u = std::clamp((a - deg2rad(p_.stall_deg - p_.stall_width_deg)) / deg2rad(2 * p_.stall_width_deg), 0.0, 1.0);

@@ -24,7 +24,7 @@ std::shared_ptr<const CoefficientModel> models(int i) {
 }
 }  // namespace
 
-// Tables (bicubic in log V and alpha, 0.5 deg spacing) reproduce direct
+// Tables (bicubic in log V and alpha, 0.25 deg spacing) reproduce direct
 // evaluation within 0.1 % of the wing's largest lift over the range, for every
 // example wing and both model kinds.
 TEST(Aero, TablesAgreeWithDirectEvaluation) {

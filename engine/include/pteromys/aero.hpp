@@ -26,7 +26,7 @@ struct TableGrid {
   double v_min = 1.0;                   ///< m/s
   double v_max = 40.0;                  ///< m/s
   int nv = 28;
-  double alpha_step = deg2rad(0.5);     ///< rad
+  double alpha_step = deg2rad(0.25);    ///< rad
 };
 
 /// Per-wing force table over (V, alpha), built once per wing shape: a change

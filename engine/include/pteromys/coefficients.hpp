@@ -80,7 +80,10 @@ struct FlatPlateParams {
   double section_lift_slope = 0.9 * 2 * kPi;  ///< a0 [1/rad], thin plate at low Re
   double stall_deg = 10.0;                   ///< centre of the attached-to-separated blend
   double stall_width_deg = 2.0;              ///< half width of the blend (smoothstep)
-  double normal_force_90 = 1.98;             ///< C_N of the plate broadside to the flow
+  /// C_N of the plate broadside to the flow; 0 = from the aspect ratio
+  /// (Hoerner, Fluid-Dynamic Drag 1965, 3-16: 1.17 at A = 1, 1.20 at 5, 1.29 at
+  /// 10, 1.50 at 20, 1.98 for the 2-D plate; interpolated in 1/A).
+  double normal_force_90 = 0.0;
   double edge_drag = 0.005;                  ///< pressure drag of the edges at alpha = 0
   double alpha_valid_deg = 40.0;             ///< model validity limit
 };
@@ -100,10 +103,13 @@ class FlatPlateModel final : public CoefficientModel {
   static double friction_drag(double re);
   /// Coefficients without the Re-dependent friction drag.
   Coefficients eval_alpha(double alpha) const;
+  /// The broadside normal force in use (given or from the aspect ratio).
+  double normal_force_90() const { return cn90_; }
 
  private:
   FlatPlateParams p_;
   double lift_slope_;  // finite-wing lift slope (Helmbold)
+  double cn90_;        // broadside normal-force coefficient
 };
 
 /// One RBF centre eps^k with the coefficient values c^k the model takes there.
