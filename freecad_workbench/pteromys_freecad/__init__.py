@@ -19,15 +19,29 @@ See docs/workbench.md for the full reference.
 """
 import FreeCAD as App
 
-from .backend import EngineMissing, engine, feature_missing  # noqa: F401
-from .fileio import (ExportError, export_dxf, export_glider_file, export_step,  # noqa: F401
+from .backend import EngineMissing, engine, feature_missing
+from .fileio import (ExportError, export_dxf, export_glider_file, export_step,
                      import_glider_file, sketch_from_outline)
-from .glider import MATERIALS, Glider, is_glider, make_glider, result_data  # noqa: F401
-from .outline import OutlineError, add_closed_curves, mirror_half_outline, outline_from_sketch  # noqa: F401
-from .template import default_wing_sketch, new_glider  # noqa: F401
-from .wing import Wing, is_wing, make_wing  # noqa: F401
+from .glider import MATERIALS, Glider, is_glider, make_glider, result_data
+from .outline import OutlineError, add_closed_curves, mirror_half_outline, outline_from_sketch
+from .template import default_wing_sketch, new_glider
+from .wing import Wing, is_wing, make_wing
 
 __version__ = "0.1.0"
+
+__all__ = [
+    # objects and templates
+    "new_glider", "make_glider", "make_wing", "add_wing", "default_wing_sketch", "gliders", "active_glider",
+    "is_glider", "is_wing", "Glider", "Wing", "MATERIALS",
+    # running and reading
+    "optimise_now", "results", "result_data", "save_flight_plot",
+    # files
+    "import_glider_file", "export_glider_file", "export_dxf", "export_step", "ExportError",
+    # sketches
+    "outline_from_sketch", "mirror_half_outline", "sketch_from_outline", "add_closed_curves", "OutlineError",
+    # engine
+    "engine", "feature_missing", "EngineMissing",
+]
 
 
 def gliders(doc=None):

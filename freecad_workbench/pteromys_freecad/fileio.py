@@ -18,7 +18,6 @@ import FreeCAD as App
 from . import backend as E
 from . import glider as G
 from . import outline as O
-from . import props as P
 
 
 class ExportError(ValueError):
@@ -66,8 +65,11 @@ def export_glider_file(obj, path):
 
 
 def _fabrication_kwargs(obj):
-    return dict(kerf_mm=P.quantity_mm(obj.Kerf), clearance_mm=P.quantity_mm(obj.Clearance),
-                min_web_mm=P.quantity_mm(obj.MinWeb))
+    kw = G.fabrication_options(obj)
+    joints = G.joints_of(obj)
+    if joints:
+        kw["joint"] = joints
+    return kw
 
 
 def _export(obj, dxf=None, step=None, **kw):
@@ -75,6 +77,8 @@ def _export(obj, dxf=None, step=None, **kw):
     if missing:
         raise ExportError(missing)
     g = _fresh_glider_dict(obj)
+    if obj.FabricationProblems:
+        raise ExportError("the plates of '%s' cannot be slotted: %s" % (obj.Label, obj.FabricationProblems[0]))
     pt = E.engine()
     args = _fabrication_kwargs(obj)
     args.update(kw)

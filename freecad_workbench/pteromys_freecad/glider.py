@@ -93,6 +93,10 @@ PROPERTIES = [
     P.Prop("App::PropertyFloatList", "LaunchDistances", "Result",
            "Distance flown [m] by the six standard launches: 7, 9, 11 m/s at 0 and 10 deg up", [], **_OUT),
     P.Prop("App::PropertyBoolList", "LaunchStable", "Result", "Stability of the six standard launches", [], **_OUT),
+    P.Prop("App::PropertyStringList", "FabricationProblems", "Result",
+           "Why the plates cannot be slotted as designed (they are then shown without slots)", [], **_OUT),
+    P.Prop("App::PropertyStringList", "Assembly", "Result",
+           "How to assemble the plates, step by step (from the slotted plates)", [], **_OUT),
     P.Prop("App::PropertyFloat", "MassGrams", "Result", "Mass of plates and ballast [g]", 0.0, **_OUT),
     P.Prop("App::PropertyVectorDistance", "CenterOfGravity", "Result", "Centre of gravity (glider x, y)", None, **_OUT),
     P.Prop("App::PropertyDistance", "BallastPlacedX", "Result", "Ballast x used (optimised when OptimiseBallast)", 0.0, **_OUT),
@@ -282,6 +286,21 @@ def locks_of(obj):
     return locks
 
 
+def joints_of(obj):
+    """{wing name: engine joint name} for wings whose joint is not Auto."""
+    out = {}
+    for w in wings_of(obj):
+        name = W.JOINT_NAMES.get(getattr(w, "Joint", "Auto"))
+        if name:
+            out[w.WingName] = name
+    return out
+
+
+def fabrication_options(obj):
+    return dict(kerf_mm=P.quantity_mm(obj.Kerf), clearance_mm=P.quantity_mm(obj.Clearance),
+                min_web_mm=P.quantity_mm(obj.MinWeb))
+
+
 def all_locked(obj):
     return all(w.LockX and w.LockY and w.LockAngle for w in wings_of(obj)) and not obj.OptimiseBallast
 
@@ -326,23 +345,33 @@ def solve(pt, glider, obj, proxy, optimise=None, cold=False):
             g = res["glider"]
             if not isinstance(g, dict):
                 g = pt.glider_dict(g)
+            cost = res.get("cost", 0.0)
+            terms = dict(cost) if isinstance(cost, dict) else {"total": float(cost)}
             return {"glider": g, "report": res["report"], "flights": list(res["flights"]), "notes": notes,
-                    "cost": float(res.get("cost", 0.0)), "evaluations": int(res.get("evaluations", 0)),
-                    "seconds": float(res.get("seconds", 0.0)), "optimised": True}
+                    "cost": float(terms.get("total", 0.0)), "cost_terms": terms,
+                    "evaluations": int(res.get("evaluations", 0)), "seconds": float(res.get("seconds", 0.0)),
+                    "stop_reason": str(res.get("stop_reason", "")), "optimised": True}
     report, flights = pt.evaluate(pt.glider(glider), model=model, height=height)
     return {"glider": glider, "report": report, "flights": flights, "notes": notes, "optimised": False}
 
 
 def build_plates(pt, glider, obj):
-    """(plates, notes) for a mounted glider dict."""
+    """(plates, notes, fabrication problems) for a mounted glider dict.
+
+    When the engine cannot slot the plates (no joint can hold a wing, webs too
+    thin...), the design itself is still valid: the plates are shown without
+    slots and the reason is returned as a fabrication problem.
+    """
     if obj.Slotted:
         missing = E.feature_missing("slotted_plates")
-        if not missing:
-            plates = pt.slotted_plates(pt.glider(glider), kerf_mm=P.quantity_mm(obj.Kerf),
-                                       clearance_mm=P.quantity_mm(obj.Clearance), min_web_mm=P.quantity_mm(obj.MinWeb))
-            return list(plates), []
-        return _plain(glider), [missing + "; the plates are shown without slots"]
-    return _plain(glider), []
+        if missing:
+            return _plain(glider), [missing + "; the plates are shown without slots"], []
+        try:
+            plates = pt.slotted_plates(pt.glider(glider), joint=joints_of(obj) or None, **fabrication_options(obj))
+            return list(plates), [], []
+        except E.input_error_types() as e:
+            return _plain(glider), [], [str(e)]
+    return _plain(glider), [], []
 
 
 def _plain(glider):
@@ -352,14 +381,24 @@ def _plain(glider):
 
 def recompute(obj, proxy):
     """The whole loop for one Glider (see the module docstring)."""
+    clock = [time.perf_counter()]
+    timing = {}
+
+    def lap(name):
+        now = time.perf_counter()
+        timing[name] = (now - clock[0]) * 1000.0
+        clock[0] = now
+
     try:
         pt = E.engine()
     except E.EngineMissing as e:
         _set_problems(obj, [str(e)])
         return
     design, problems = read_design(obj)
+    lap("sketches_ms")
     if not problems:
         problems = list(pt.validation_problems(design))
+    lap("validation_ms")
     if problems:
         _set_problems(obj, problems)
         return
@@ -369,10 +408,12 @@ def recompute(obj, proxy):
     except bad as e:
         _set_problems(obj, [str(e)])
         return
+    lap("optimise_ms" if res.get("optimised") else "evaluate_ms")
     notes = list(res["notes"])
     try:
-        plates, pnotes = build_plates(pt, res["glider"], obj)
+        plates, pnotes, fab_problems = build_plates(pt, res["glider"], obj)
         notes += pnotes
+        lap("plates_ms")
         from . import plates as PL
         shape = PL.plates_compound(plates)
     except (bad + (RuntimeError,)) as e:
@@ -381,10 +422,27 @@ def recompute(obj, proxy):
     if shape.isNull() or not shape.Solids:
         _set_problems(obj, ["plates: the engine returned no solid plate"])
         return
-    apply_results(obj, res, notes)
+    lap("solids_ms")
+    res["timing"] = timing
+    obj.FabricationProblems = fab_problems
+    apply_results(obj, res, notes, [{"name": p.get("name"), "kind": p.get("kind"), "holes": len(p.get("holes", [])),
+                                     "outline_points": len(p.get("outline", []))} for p in plates])
+    obj.Assembly = assembly_steps(plates)
     pl = obj.Placement
     obj.Shape = shape
     obj.Placement = pl
+
+
+def assembly_steps(plates):
+    """Plain-words assembly steps from the joints of slotted plates (empty without slots)."""
+    seen = {}
+    for p in plates:
+        for j in p.get("joints", []) or []:
+            key = (j.get("step", 0), j.get("wing", ""))
+            if key not in seen and j.get("how"):
+                seen[key] = "%d. %s (%s): %s" % (j.get("step", 0), j.get("wing", ""),
+                                                 str(j.get("type", "")).replace("_", " "), j["how"])
+    return [seen[k] for k in sorted(seen)]
 
 
 def _downsample(arr, limit=250):
@@ -397,7 +455,7 @@ def _downsample(arr, limit=250):
     return [[round(float(arr[i][1]), 4), round(float(arr[i][2]), 4)] for i in idx]
 
 
-def apply_results(obj, res, notes):
+def apply_results(obj, res, notes, plates_summary=None):
     rep = res["report"]
     g = res["glider"]
     obj.Problems = []
@@ -438,13 +496,18 @@ def apply_results(obj, res, notes):
     obj.OptimisationEvaluations = int(res.get("evaluations", 0))
     data = {"format": "pteromys-freecad-result/1", "report": rep,
             "flights": [_downsample(f) for f in res["flights"]], "glider": g,
-            "optimised": bool(res.get("optimised")), "notes": notes}
+            "optimised": bool(res.get("optimised")), "notes": notes, "timing": res.get("timing", {}),
+            "optimisation": {k: res[k] for k in ("cost_terms", "evaluations", "seconds", "stop_reason") if k in res},
+            "plates": plates_summary}
     obj.ResultData = json.dumps(data, separators=(",", ":"))
     if obj.Flyable:
-        obj.Status = "Flyable" + (" (%s)" % "; ".join(notes) if notes else "")
+        status = "Flyable" + (" (%s)" % "; ".join(notes) if notes else "")
     else:
         first = obj.Reasons[0] if obj.Reasons else "it does not glide"
-        obj.Status = "Not flyable: %s" % first
+        status = "Not flyable: %s" % first
+    if obj.FabricationProblems:
+        status += "; plates shown without slots: %s" % obj.FabricationProblems[0]
+    obj.Status = status
 
 
 def result_data(obj):

@@ -11,7 +11,9 @@ the sketcher or from a macro with ``sketch.setDatum(name, value)``):
   (how far the tip's leading edge lies behind the root's).
 
 Wing sketches keep the root leading edge on the sketch origin, which is the
-wing's mount point, and stay mirror-symmetric by constraint.
+wing's mount point, and stay mirror-symmetric by constraint. The tail's x
+is locked (it stays at the end of the boom); everything else of the mounts is
+free for the optimiser.
 """
 import FreeCAD as App
 
@@ -112,6 +114,11 @@ def new_glider(doc=None, name="Glider", recompute=True, auto_optimise=True):
         sk = wing_sketch(doc, label + "Sketch", root, tip, span, sweep, at=(mount[0], mount[1]))
         sk.Label = "%s (top view)" % ("Main wing" if wname == "main" else "Tail")
         w = W.make_wing(sk, wname, mount, doc=doc, label="Main wing" if wname == "main" else "Tail")
+        if wname == "tail":
+            # The tail stays at the end of the boom: the optimiser tilts it and may
+            # move it up or down, and moves and tilts the main wing. (Unlocked, it
+            # may slide the tail forward under the main wing, which cannot be built.)
+            w.LockX = True
         wings.append(w)
     g = G.make_glider(fus, wings, name=name, doc=doc, auto_optimise=auto_optimise)
     g.BallastGrams, g.BallastX, g.BallastY = BALLAST

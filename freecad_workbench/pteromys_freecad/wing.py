@@ -16,11 +16,19 @@ from . import props as P
 
 SCHEMA = 1
 
+#: Joint choices (property values) and the engine's names for them.
+JOINTS = ["Auto", "ThroughSlot", "CrossLap", "Halves"]
+JOINT_NAMES = {"Auto": None, "ThroughSlot": "through_slot", "CrossLap": "cross_lap", "Halves": "halves"}
+
 PROPERTIES = [
     P.Prop("App::PropertyLink", "Sketch", "Wing", "Top-view sketch of the wing (sketch X toward the nose, Y along the span)"),
     P.Prop("App::PropertyString", "WingName", "Wing", "Name of the wing in glider files and reports (unique per glider)", "wing"),
     P.Prop("App::PropertyBool", "HalfOutline", "Wing",
            "The sketch holds one half of the wing (sketch Y >= 0); it is mirrored about the sketch X axis", False),
+    P.Prop("App::PropertyEnumeration", "Joint", "Wing",
+           "How the wing is joined to the fuselage: Auto (the engine chooses one that can be assembled), "
+           "ThroughSlot (a tilted hole in the fuselage), CrossLap (half slots in both plates), "
+           "Halves (the wing is cut in two and pushed in from both sides)", JOINTS),
     P.Prop("App::PropertyDistance", "MountX", "Mount",
            "Design mount: glider x of the wing origin (positive toward the nose)", 0.0),
     P.Prop("App::PropertyDistance", "MountY", "Mount", "Design mount: glider y of the wing origin (up)", 0.0),

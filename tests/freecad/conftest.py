@@ -41,11 +41,11 @@ def facts(g):
     f["wings"] = {}
     for w in g.Wings:
         face = face_of(w.Sketch)
-        f["wings"][w.WingName] = {"area": face.Area, "cx": face.CenterOfMass.x, "dof": w.Sketch.solve(),
+        f["wings"][w.WingName] = {"area": face.Area, "cx": face.CenterOfMass.x, "fully_constrained": w.Sketch.FullyConstrained,
                                   "span": w.Span.Value, "planform": w.PlanformArea.Value,
                                   "mounted": [w.MountedX.Value, w.MountedY.Value, w.MountedAngle.getValueAs("deg").Value],
                                   "design": [w.MountX.Value, w.MountY.Value, w.MountAngle.getValueAs("deg").Value]}
-    f["fus_dof"] = g.Fuselage.solve()
+    f["fus_fully_constrained"] = g.Fuselage.FullyConstrained
     sh = g.Shape
     f["n_solids"] = len(sh.Solids)
     f["volume"] = sh.Volume

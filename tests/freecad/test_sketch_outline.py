@@ -3,7 +3,6 @@
 References: OpenCASCADE's exact distances and face areas of the sketch
 curves (not the workbench's polygon), and the stated chordal tolerance.
 """
-import math
 
 import pytest
 

@@ -42,8 +42,8 @@ pf.export_glider_file(g, %r)
     f = r["f"]
     res = f["results"]
     assert res["problems"] == [], res["problems"]
-    # Sketches fully constrained (0 degrees of freedom), dimensions as designed.
-    assert f["fus_dof"] == 0 and all(w["dof"] == 0 for w in f["wings"].values())
+    # Sketches fully constrained (FreeCAD's solver: no degree of freedom left), dimensions as designed.
+    assert f["fus_fully_constrained"] and all(w["fully_constrained"] for w in f["wings"].values())
     main, tail = f["wings"]["main"], f["wings"]["tail"]
     assert main["area"] == pytest.approx(trapezoid_area(MAIN), rel=1e-9)
     assert tail["area"] == pytest.approx(trapezoid_area(TAIL), rel=1e-9)
@@ -111,3 +111,25 @@ RESULT["after"] = facts(g)
     assert a["results"]["launch_distances_m"] != b["results"]["launch_distances_m"]  # the flights were recomputed
     assert a["volume"] > b["volume"]
     assert r["touched"] == []                                                     # one recompute settles everything
+
+
+def test_add_wing_gives_a_third_plate(fc):
+    r = fc('''
+doc = App.newDocument("W3")
+g = pf.new_glider(doc, auto_optimise=False)
+n0 = len(g.Shape.Solids)
+w = pf.add_wing(g, mount=(-150.0, 2.0, 0.0))
+RESULT["name"], RESULT["n0"], RESULT["n1"] = w.WingName, n0, len(g.Shape.Solids)
+RESULT["problems"], RESULT["wings"] = list(g.Problems), [x["name"] for x in pf.result_data(g)["glider"]["wings"]]
+RESULT["area"] = w.PlanformArea.Value
+try:
+    pf.add_wing(g, name="main")
+except ValueError as e:
+    RESULT["dup"] = str(e)
+''')
+    assert r["problems"] == [], r["problems"]
+    assert r["name"] == "wing3" and r["wings"] == ["main", "tail", "wing3"]
+    assert r["n1"] >= r["n0"] + 1
+    # default new wing: tapered, root 40, tip 30, span 150 mm
+    assert r["area"] == pytest.approx(0.5 * (40 + 30) * 150, rel=1e-9)
+    assert "already has a wing named 'main'" in r["dup"]

@@ -218,6 +218,12 @@ def summary_html(obj, data):
         rows.append(("Recompute", "%.0f ms" % obj.RecomputeMilliseconds))
         out.append("<table cellspacing='0' cellpadding='1'>%s</table>"
                    % "".join("<tr><td>%s:&nbsp;</td><td>%s</td></tr>" % (a, b) for a, b in rows))
+        fab = list(getattr(obj, "FabricationProblems", []) or [])
+        if fab:
+            out.append("<div style='color:#a02818'><b>Plates without slots:</b> %s</div>" % esc(fab[0]))
+        steps = list(getattr(obj, "Assembly", []) or [])
+        if steps:
+            out.append("<div><b>Assembly</b><br/>%s</div>" % "<br/>".join(esc(s) for s in steps))
         notes = (rep.get("warnings") or []) + (data.get("notes") or [])
         if notes:
             out.append("<div style='color:#8a6d00'>%s</div>" % "<br/>".join("\u26a0 " + esc(n) for n in notes))

@@ -4,7 +4,6 @@ Edits are written to the Glider's and Wings' properties and recomputed on
 Apply (or OK); Cancel undoes everything done in the panel. The sketches are
 edited in the sketcher as usual (double-click a wing to open its sketch).
 """
-import FreeCAD as App
 import FreeCADGui as Gui
 from PySide2 import QtCore, QtWidgets
 

@@ -1,0 +1,198 @@
+"""GUI smoke test under Xvfb: the workbench activates, New glider works, the
+flight view opens and follows recomputes, the task panel opens, a bad edit
+keeps FreeCAD up, a saved document reopens with its view providers; the
+screenshots are checked for content.
+
+Set PTEROMYS_SCREENSHOTS=DIR to also keep the screenshots (docs/img uses them).
+"""
+import json
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import fc_env
+
+GUI_SCRIPT = r'''
+import json, os, sys, traceback
+OUT = %(out)r
+SHOTS = %(shots)r
+R = {}
+def pump(n=15):
+    from PySide2 import QtWidgets
+    for _ in range(n):
+        QtWidgets.QApplication.processEvents()
+def screen(path):
+    from PySide2 import QtGui
+    QtGui.QGuiApplication.primaryScreen().grabWindow(0).save(path)
+try:
+    import FreeCAD as App, FreeCADGui as Gui
+    from PySide2 import QtWidgets, QtCore, QtGui
+    mw = Gui.getMainWindow()
+    mw.showMaximized()
+    pump()
+    R["workbenches"] = sorted(Gui.listWorkbenches())
+    Gui.activateWorkbench("PteromysWorkbench")
+    R["active"] = Gui.activeWorkbench().name()
+    wb = Gui.activeWorkbench()
+    R["toolbar"] = wb.getToolbarItems().get("Pteromys", [])
+    R["menu_commands"] = [c for c in Gui.listCommands() if c.startswith("Pteromys_")]
+    doc = App.newDocument("Smoke")
+    Gui.runCommand("Pteromys_NewGlider")
+    pump()
+    import pteromys_freecad as pf
+    from pteromys_freecad.gui import flight_view
+    g = pf.active_glider()
+    R["glider"] = g.Label if g else None
+    R["status"] = g.Status
+    dock = mw.findChild(QtWidgets.QDockWidget, flight_view.DOCK_NAME)
+    R["dock_visible"] = bool(dock and dock.isVisible())
+    view = dock.widget()
+    R["plot_distances_before"] = [l["distance_m"] for l in view.plot.data["report"]["launches"]]
+    R["summary"] = view.summary.text()
+    R["vp"] = type(g.ViewObject.Proxy).__name__
+    R["children"] = [o.Name for o in g.ViewObject.claimChildren()]
+    # edit a constraint: the flight view must follow the recompute
+    main = [w for w in g.Wings if w.WingName == "main"][0]
+    main.Sketch.setDatum("Span", App.Units.Quantity("470 mm"))
+    doc.recompute()
+    pump()
+    R["plot_distances_after"] = [l["distance_m"] for l in view.plot.data["report"]["launches"]]
+    R["glider_distances_after"] = list(g.LaunchDistances)
+    Gui.Selection.clearSelection()
+    # a wider combo view and the tree unfolded, for readable screenshots
+    cv = mw.findChild(QtWidgets.QDockWidget, "Combo View")
+    if cv is not None:
+        mw.resizeDocks([cv], [430], QtCore.Qt.Horizontal)
+    for t in mw.findChildren(QtWidgets.QTreeWidget):
+        t.expandAll()
+    v = Gui.activeDocument().activeView()
+    v.viewIsometric()
+    v.fitAll()
+    pump(30)
+    v.saveImage(os.path.join(SHOTS, "view3d.png"), 1200, 700, "White")
+    screen(os.path.join(SHOTS, "main.png"))
+    flight_view.grab(os.path.join(SHOTS, "flight.png"))
+    # the task panel
+    Gui.ActiveDocument.setEdit(g.Name)
+    pump()
+    R["task_dialog"] = Gui.Control.activeDialog()
+    screen(os.path.join(SHOTS, "task.png"))
+    Gui.Control.closeDialog()
+    Gui.ActiveDocument.resetEdit()
+    pump()
+    # a bad edit: the tail sketch opened; FreeCAD stays up and says why
+    tail = [w for w in g.Wings if w.WingName == "tail"][0]
+    doc.openTransaction("break the tail")
+    tail.Sketch.delGeometry(1)
+    doc.commitTransaction()
+    doc.recompute()
+    pump()
+    R["bad_status"] = g.Status
+    R["bad_banner"] = view.plot.banner
+    screen(os.path.join(SHOTS, "bad.png"))
+    doc.undo()
+    doc.recompute()
+    pump()
+    R["undone_status"] = g.Status
+    # save, close, reopen: view providers come back
+    path = os.path.join(SHOTS, "smoke.FCStd")
+    doc.saveAs(path)
+    App.closeDocument(doc.Name)
+    pump()
+    doc2 = App.openDocument(path)
+    pump()
+    g2 = pf.gliders(doc2)[0]
+    R["reopened_vp"] = type(g2.ViewObject.Proxy).__name__
+    R["reopened_wing_vp"] = type(g2.Wings[0].ViewObject.Proxy).__name__
+    R["reopened_status"] = g2.Status
+    R["finished"] = True
+except BaseException:
+    R["error"] = traceback.format_exc()
+finally:
+    with open(OUT, "w") as f:
+        json.dump(R, f, indent=1, default=str)
+    try:
+        for d in list(App.listDocuments()):
+            App.closeDocument(d)
+    finally:
+        from PySide2 import QtWidgets, QtCore
+        QtCore.QTimer.singleShot(0, QtWidgets.QApplication.quit)
+'''
+
+
+def image(path):
+    import matplotlib.image as mpimg
+    a = mpimg.imread(str(path))
+    return (a[..., :3] * 255).astype(np.uint8) if a.dtype != np.uint8 else a[..., :3]
+
+
+@pytest.fixture(scope="module")
+def gui(fc_home, tmp_path_factory):
+    for exe in ("xvfb-run", "freecad"):
+        if not shutil.which(exe):
+            pytest.fail("%s is not installed (scripts/setup.sh installs freecad, xvfb and xauth)" % exe)
+    tmp = tmp_path_factory.mktemp("gui")
+    shots = tmp / "shots"
+    shots.mkdir()
+    out = tmp / "gui.json"
+    script = tmp / "gui_smoke.py"
+    script.write_text(GUI_SCRIPT % {"out": str(out), "shots": str(shots)})
+    env = fc_env(fc_home, QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
+    env.pop("QT_QPA_PLATFORM", None)       # the real X11 platform, on Xvfb
+    p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "freecad", str(script)],
+                       capture_output=True, text=True, timeout=600, env=env, cwd=str(tmp))
+    if not out.exists():
+        pytest.fail("FreeCAD GUI wrote no result (exit %s):\n%s\n%s" % (p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
+    r = json.loads(out.read_text())
+    if "error" in r:
+        pytest.fail("GUI script failed:\n" + r["error"])
+    keep = os.environ.get("PTEROMYS_SCREENSHOTS")
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+        for name in ("main", "view3d", "flight", "task", "bad"):
+            shutil.copy(shots / (name + ".png"), os.path.join(keep, "workbench_%s.png" % name))
+    r["_shots"] = shots
+    return r
+
+
+def test_workbench_activates_with_its_commands(gui):
+    assert "PteromysWorkbench" in gui["workbenches"] and gui["active"] == "PteromysWorkbench"
+    for c in ("Pteromys_NewGlider", "Pteromys_AddWing", "Pteromys_OptimiseNow", "Pteromys_FlightView",
+              "Pteromys_ExportDXF", "Pteromys_ExportSTEP", "Pteromys_ImportGlider", "Pteromys_ExportGlider"):
+        assert c in gui["toolbar"] and c in gui["menu_commands"], c
+
+
+def test_new_glider_and_flight_view_follow_recompute(gui):
+    assert gui["glider"] == "Glider" and not gui["status"].startswith("Input error"), gui["status"]
+    assert gui["vp"] == "ViewProviderGlider" and len(gui["children"]) == 3
+    assert gui["dock_visible"]
+    assert ("Flyable" in gui["summary"]) or ("Not flyable" in gui["summary"])
+    assert gui["plot_distances_after"] == pytest.approx(gui["glider_distances_after"], rel=1e-12)
+    assert gui["plot_distances_after"] != pytest.approx(gui["plot_distances_before"], rel=1e-6)
+    assert gui["task_dialog"]
+
+
+def test_bad_edit_in_the_gui_is_civil(gui):
+    assert gui["bad_status"].startswith("Input error: wing 'tail'"), gui["bad_status"]
+    assert gui["bad_banner"].startswith("Input error: wing 'tail'")
+    assert not gui["undone_status"].startswith("Input error"), gui["undone_status"]
+    assert gui["reopened_vp"] == "ViewProviderGlider" and gui["reopened_wing_vp"] == "ViewProviderWing"
+
+
+def test_screenshots_show_the_glider_and_its_flights(gui):
+    shots = gui["_shots"]
+    v3d = image(shots / "view3d.png")
+    # foam-board plates (ShapeColor 0.96, 0.93, 0.82 shaded): warm, non-white pixels present
+    r, g, b = (v3d[..., k].astype(int) for k in range(3))
+    plates = (r > 60) & (r - b > 12) & (r < 250)
+    assert plates.sum() > 2000, plates.sum()
+    fl = image(shots / "flight.png")
+    # the six trajectories use the three speed colours (pteromys_freecad.gui.flight_view.SPEED_COLOURS)
+    for hexcol in ("#1b9e77", "#d95f02", "#7570b3"):
+        c = np.array([int(hexcol[i:i + 2], 16) for i in (1, 3, 5)])
+        assert (np.abs(fl.astype(int) - c).sum(axis=2) < 40).sum() > 50, hexcol
+    main = image(shots / "main.png")
+    assert main.shape[0] >= 900 and main.std() > 20
