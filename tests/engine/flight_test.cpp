@@ -48,6 +48,34 @@ TEST(Flight, BallisticWhenAirIsRemoved) {
   }
 }
 
+// The same through the whole pipeline for every example: with the air's density
+// set to zero the quasi-static model gives no force and the flight is the
+// parabola of the launch, for any glider.
+TEST(Flight, EveryExampleIsBallisticWithoutAir) {
+  Environment vacuum;
+  vacuum.air_density = 0;
+  for (const auto& [path, g] : test::examples()) {
+    const MountedGlider mg = mount(g, default_model(), vacuum);
+    for (const Launch& l : standard_launches(1.5)) {
+      const Flight f = simulate(QuasiStaticAero(mg), {mg.mass().mass, mg.mass().inertia}, l);
+      const double c = deg2rad(l.climb_deg), vx = l.speed * std::cos(c), vy = l.speed * std::sin(c);
+      for (std::size_t i = 0; i + 1 < f.samples.size(); ++i) {
+        const auto& s = f.samples[i];
+        ASSERT_NEAR(s.x, vx * s.t, 1e-11) << path;
+        ASSERT_NEAR(s.y, 1.5 + vy * s.t - 0.5 * 9.81 * s.t * s.t, 1e-11) << path;
+        ASSERT_NEAR(s.pitch, c, 1e-12) << path;
+      }
+      // The pitch stays put while the path steepens, so the angle of attack
+      // grows; the flight ends at the ground or, once a wing passes the
+      // model's range, as unstable (the simulator cannot know the air is gone).
+      if (f.end == FlightEnd::Ground)
+        EXPECT_NEAR(f.flight_time, (vy + std::sqrt(vy * vy + 2 * 9.81 * 1.5)) / 9.81, 1e-5) << path;
+      else
+        EXPECT_GT(f.max_alpha, mg.alpha_limit()) << path;
+    }
+  }
+}
+
 // The Verlet trajectory converges with second order as the step shrinks,
 // toward an RK4 reference with a tiny step, for every example.
 TEST(Flight, TrajectoryConvergesAsTimeStepShrinks) {

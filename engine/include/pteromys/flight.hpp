@@ -26,6 +26,16 @@ struct Wrench {
   double moment = 0;
 };
 
+/// Added-mass (apparent-mass) terms of a model, in the simulator's generalised
+/// coordinates q = (x, y, beta) of the world frame: the air force contains
+/// -m * (x'', y'', beta'') + bias, so the simulator solves
+/// (diag(M, M, I) + m) q'' = F + bias + gravity. m: symmetric positive
+/// semi-definite 3 x 3 [kg, kg m, kg m^2]; bias [N, N, N m].
+struct AddedMass {
+  double m[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  double bias[3] = {0, 0, 0};
+};
+
 /// What the simulator asks of an aerodynamic model. Every model (the paper's
 /// quasi-static wing elements, the reference simulator, the baseline extended
 /// by a candidate effect) implements it.
@@ -38,6 +48,10 @@ class AeroForces {
   virtual double max_alpha(const FlightState& s) const = 0;
   /// Model validity: a wing angle of attack beyond this means unstable flight [rad].
   virtual double alpha_limit() const = 0;
+  /// Optional added mass (default none: the simulator then integrates eq. 4
+  /// exactly as before). `s.v` is relative to the air, as for evaluate().
+  virtual bool has_added_mass() const { return false; }
+  virtual AddedMass added_mass(const FlightState&) const { return {}; }
 };
 
 /// Flight-path angle theta (descending positive) and glider angle of attack
