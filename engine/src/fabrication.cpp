@@ -621,12 +621,10 @@ WingOptions wing_options(const Ctx& c, std::size_t j, JointType want) {
   }
   for (auto& k : laps_short) out.feasible.push_back(std::move(k));
   if (want == JointType::Auto || want == JointType::Halves) consider(halves(c, j, S));
-  for (auto& k : laps_long) {
-    if (want == JointType::Auto && !out.feasible.empty())
-      out.refused.push_back({JointType::CrossLap, "a cross-lap would need an open slot " + mm(k.fus_len) +
-                                                      " mm long in the fuselage, weakening it; splitting the wing is preferred"});
-    out.feasible.push_back(std::move(k));
-  }
+  if (!laps_long.empty() && want == JointType::Auto && !out.feasible.empty())
+    out.refused.push_back({JointType::CrossLap, "a cross-lap would need an open slot " + mm(laps_long.front().fus_len) +
+                                                    " mm long in the fuselage, weakening it; splitting the wing is preferred"});
+  for (auto& k : laps_long) out.feasible.push_back(std::move(k));
   return out;
 }
 

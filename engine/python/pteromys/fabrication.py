@@ -6,7 +6,7 @@ The plates, joints and files come from the engine (:func:`pteromys.slotted_plate
 Command line (Debian's interpreter, ``PYTHONPATH=build/python``)::
 
     python3 -m pteromys.fabrication layout PARTS.dxf OUT.png
-    python3 -m pteromys.fabrication assembly GLIDER.glider.json OUT.png [--kerf MM ...]
+    python3 -m pteromys.fabrication assembly GLIDER.glider.json OUT.png [--joints] [--kerf MM ...]
 """
 import argparse
 import math
@@ -17,7 +17,7 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["read_dxf_layout", "plot_layout", "plot_assembly"]
+__all__ = ["read_dxf_layout", "plot_layout", "plot_assembly", "plot_joints"]
 
 
 def read_dxf_layout(path):
@@ -162,6 +162,75 @@ def plot_assembly(glider, png_path, **options):
     return png_path
 
 
+def _closed(p):
+    p = np.asarray(p) * 1000
+    return np.vstack([p, p[:1]])
+
+
+def plot_joints(glider, png_path, **options):
+    """One column per wing: the fuselage around the joint (top) and the wing's
+    root (bottom), finished parts in plate coordinates [mm], slots as the
+    engine reports them, cut paths dashed.
+    """
+    plt = _mpl()
+    plates = _core.slotted_plates(glider, **options)
+    fus = plates[0]
+    joints = fus["joints"]
+    fig, axes = plt.subplots(2, len(joints), figsize=(4.6 * len(joints), 6.4), squeeze=False)
+    for k, j in enumerate(joints):
+        top, bot = axes[0][k], axes[1][k]
+        lo, hi = np.array(j["engaged_m"]) * 1000
+        pad = max(12.0, 0.35 * (hi - lo))
+        # fuselage, around the slot(s) of this wing
+        fs = [s for s in j["slots"] if s["plate"] == "fuselage"]
+        wp = next(p for p in plates if p["wing"] == j["wing"])
+        centre = (wp["transform"] @ np.array([(lo + hi) / 2000, 0.0, 0.0, 1.0]))[:2] * 1000
+        for poly, style in [(fus["outline"], "-"), *[(h, "-") for h in fus["holes"]]]:
+            c = _closed(poly)
+            top.plot(c[:, 0], c[:, 1], "k" + style, lw=1.0)
+        for poly in [fus["cut_outline"], *fus["cut_holes"]]:
+            c = _closed(poly)
+            top.plot(c[:, 0], c[:, 1], color="#c0392b", ls="--", lw=0.6)
+        for s in fs:
+            c = _closed(s["rect"])
+            top.fill(c[:, 0], c[:, 1], color="#3b7dbd", alpha=0.25)
+        for m in fus["marks"]:
+            if m["kind"] == "line":
+                q = m["points"] * 1000
+                top.plot(q[:, 0], q[:, 1], color="#1f5fa8", lw=0.8)
+        span_x = (hi - lo) / 2 + pad
+        top.set_xlim(centre[0] - span_x, centre[0] + span_x)
+        top.set_ylim(centre[1] - 0.45 * span_x, centre[1] + 0.45 * span_x)
+        top.set_aspect("equal")
+        top.set_title(f"fuselage at wing '{j['wing']}': {j['type']}", fontsize=9)
+        top.set_xlabel("x [mm]")
+        top.set_ylabel("y [mm]")
+        # the wing plate(s) near the root
+        for p in plates[1:]:
+            if p["wing"] != j["wing"]:
+                continue
+            col = {"right": "#2e86c1", "left": "#e67e22"}.get(p["half"], "#2e86c1")
+            c = _closed(p["outline"])
+            bot.fill(c[:, 0], c[:, 1], color=col, alpha=0.3, label=p["name"])
+            bot.plot(c[:, 0], c[:, 1], color=col, lw=1.0)
+            for s in j["slots"]:
+                if s["plate"] == p["name"]:
+                    r = _closed(s["rect"])
+                    bot.plot(r[:, 0], r[:, 1], color="k", lw=0.6, ls=":")
+        bot.axhline(0, color="0.5", lw=0.5)
+        bot.set_xlim(lo - pad, hi + pad)
+        bot.set_ylim(-0.45 * ((hi - lo) / 2 + pad), 0.45 * ((hi - lo) / 2 + pad))
+        bot.set_aspect("equal")
+        bot.set_title(f"wing '{j['wing']}' at its root (x, z)", fontsize=9)
+        bot.set_xlabel("x [mm]")
+        bot.set_ylabel("z [mm]")
+        bot.legend(fontsize=7, loc="lower left")
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=150)
+    plt.close(fig)
+    return png_path
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="python3 -m pteromys.fabrication", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="what", required=True)
@@ -170,6 +239,7 @@ def main(argv=None):
     a.add_argument("png")
     b = sub.add_parser("assembly", help="draw the assembled plates of a glider")
     b.add_argument("glider")
+    b.add_argument("--joints", action="store_true", help="draw the joints close up instead")
     b.add_argument("png")
     b.add_argument("--kerf", type=float, default=None, help="kerf [mm]")
     b.add_argument("--clearance", type=float, default=None, help="slot clearance [mm]")
@@ -182,7 +252,8 @@ def main(argv=None):
         else:
             opts = {k: v for k, v in (("kerf_mm", args.kerf), ("clearance_mm", args.clearance),
                                       ("min_web_mm", args.min_web), ("joint", args.joint)) if v is not None}
-            print("wrote", plot_assembly(args.glider, args.png, **opts))
+            draw = plot_joints if args.joints else plot_assembly
+            print("wrote", draw(args.glider, args.png, **opts))
     except (_core.InputError, OSError) as e:
         print("pteromys.fabrication: error:", e, file=sys.stderr)
         return 2
