@@ -19,6 +19,8 @@ class UnboundedAero final : public AeroForces {
   Wrench evaluate(const FlightState& s) const override { return a_.evaluate(s); }
   double max_alpha(const FlightState& s) const override { return a_.max_alpha(s); }
   double alpha_limit() const override { return std::numeric_limits<double>::infinity(); }
+  bool has_added_mass() const override { return a_.has_added_mass(); }
+  AddedMass added_mass(const FlightState& s) const override { return a_.added_mass(s); }
 
  private:
   const AeroForces& a_;
