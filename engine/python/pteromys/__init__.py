@@ -71,3 +71,4 @@ def simulate(g, speed=7.0, climb_deg=0.0, height=1.5, pitch_deg=None, pitch_rate
 from ._core import optimize, design_cost, OptimizeState  # noqa: E402,F401  (issue 3)
 from ._core import export, fabrication_plan, slotted_plates  # noqa: F401,E402  (fabrication, docs/fabrication.md)
 from .fit import fit, fit_launch, predict_flights, simulate_track, synthetic_dataset  # noqa: E402,F401  (issue 6)
+from .reference import *  # noqa: E402,F401,F403  (issue 6: reference simulator)

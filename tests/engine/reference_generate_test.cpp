@@ -1,0 +1,222 @@
+// Reference simulator: camera, tracking and synthetic datasets
+// (src/reference_generate.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <unistd.h>
+
+#include "pteromys/io.hpp"
+#include "pteromys/reference.hpp"
+#include "test_support.hpp"
+
+using namespace pteromys;
+
+namespace {
+
+std::vector<std::pair<std::string, Glider>> training(int n) {
+  const char* files[] = {"t17-canard", "t11-delta", "t05-tapered-strong", "t08-swept-45"};
+  std::vector<std::pair<std::string, Glider>> out;
+  for (int i = 0; i < n; ++i)
+    out.emplace_back(files[i], load_glider(test::source_path(std::string("examples/training/") + files[i] +
+                                                             ".glider.json")));
+  return out;
+}
+
+GenerateOptions quick(std::uint64_t seed = 7) {
+  GenerateOptions o;
+  o.flights_per_glider = 3;
+  o.seed = seed;
+  return o;
+}
+
+std::string temp_dir(const std::string& tag) {
+  char buf[] = "/tmp/pteromys_ref_XXXXXX";
+  const char* d = mkdtemp(buf);
+  if (!d) throw std::runtime_error("mkdtemp failed");
+  return std::string(d) + "/" + tag;
+}
+
+}  // namespace
+
+// A recorded point is c + k R(phi) (p - c): a camera at the wrong distance
+// scales about the optical axis, a rolled camera rotates about it.
+TEST(ReferenceCamera, ProjectsWithKnownScaleAndRoll) {
+  CameraModel cam;
+  cam.centre = {3.0, 1.0};
+  cam.scale = 1.04;
+  cam.roll_deg = 2.5;
+  const double ph = 2.5 * kPi / 180, c = std::cos(ph), s = std::sin(ph);
+  for (Vec2 p : {Vec2{0, 1.5}, Vec2{3, 1}, Vec2{7.2, -0.3}}) {
+    const double dx = p.x - 3.0, dy = p.y - 1.0;
+    const Vec2 q = cam.project(p);
+    EXPECT_NEAR(q.x, 3.0 + 1.04 * (c * dx - s * dy), 1e-12);
+    EXPECT_NEAR(q.y, 1.0 + 1.04 * (s * dx + c * dy), 1e-12);
+  }
+}
+
+// Tracking a ballistic flight (known parabola) without noise: frames at
+// k / fps on the camera clock from the first frame after release, positions
+// of the parabola at (t - release), through the camera transform.
+TEST(ReferenceCamera, TracksAKnownTrajectoryFrameByFrame) {
+  Launch l;
+  l.speed = 8;
+  l.climb_deg = 10;
+  l.height = 1.5;
+  SimOptions o;
+  o.t_max = 1.0;
+  const Flight f = simulate(NoAero(), {0.01, 1e-5}, l, o, 9.81);
+  CameraModel cam;
+  cam.scale = 0.97;
+  cam.roll_deg = -1.5;
+  cam.noise_sigma_m = 0.0;
+  const double release = 0.0537;
+  const auto pts = track_flight(f, release, cam, TrackWindow::Launch, 17, [] { return 0.0; });
+  ASSERT_EQ(pts.size(), 17u);
+  const double vx = 8 * std::cos(deg2rad(10)), vy = 8 * std::sin(deg2rad(10));
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const double t = (2 + static_cast<double>(i)) / 30.0;  // first frame after 0.0537 s is 2/30
+    EXPECT_NEAR(pts[i].t, t, 1e-12);
+    const double tau = t - release;
+    const Vec2 p{vx * tau, 1.5 + vy * tau - 0.5 * 9.81 * tau * tau};
+    const Vec2 q = cam.project(p);
+    EXPECT_NEAR(pts[i].x, q.x, 1e-9);
+    EXPECT_NEAR(pts[i].y, q.y, 1e-9);
+  }
+}
+
+// Same seed, same dataset, whatever the thread count; another seed differs.
+TEST(ReferenceGenerate, IsDeterministicBySeed) {
+  const auto g = training(2);
+  GenerateOptions a = quick(), b = quick();
+  a.threads = 1;
+  b.threads = 2;
+  const Dataset da = generate_dataset(g, a), db = generate_dataset(g, b);
+  const Dataset dc = generate_dataset(g, quick(8));
+  ASSERT_EQ(da.flights.size(), 6u);
+  ASSERT_EQ(db.flights.size(), da.flights.size());
+  bool differs = false;
+  for (std::size_t i = 0; i < da.flights.size(); ++i) {
+    ASSERT_EQ(da.flights[i].name, db.flights[i].name);
+    ASSERT_EQ(da.flights[i].points.size(), db.flights[i].points.size());
+    for (std::size_t k = 0; k < da.flights[i].points.size(); ++k) {
+      EXPECT_EQ(da.flights[i].points[k].x, db.flights[i].points[k].x);
+      EXPECT_EQ(da.flights[i].points[k].y, db.flights[i].points[k].y);
+      EXPECT_EQ(da.flights[i].points[k].t, db.flights[i].points[k].t);
+    }
+    differs = differs || dc.flights[i].points.front().x != da.flights[i].points.front().x;
+  }
+  EXPECT_TRUE(differs);
+}
+
+// The dataset follows the spec: the writer's checks pass and load_dataset
+// reads back the flights, the per-flight true launch and the settings.
+TEST(ReferenceGenerate, WritesADatasetThatReadsBack) {
+  const auto g = training(2);
+  GenerateOptions o = quick();
+  o.camera.noise_sigma_m = 0.03;
+  o.camera.frame_rate_hz = 60;
+  const Dataset d = generate_dataset(g, o);
+  const std::string dir = temp_dir("ds");
+  save_dataset(d, dir);
+  const Dataset r = load_dataset(dir + "/dataset.json");
+  EXPECT_EQ(r.flights.size(), d.flights.size());
+  EXPECT_EQ(r.gliders.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.frame_rate_hz, 60.0);
+  EXPECT_DOUBLE_EQ(r.tracking_sigma_m, 0.03);
+  for (const auto& f : r.flights) {
+    EXPECT_GE(f.points.size(), 15u);
+    EXPECT_LE(f.points.size(), 20u);
+    for (const char* k : {"true_speed_m_s", "true_climb_deg", "true_pitch_deg", "true_pitch_rate_deg_s",
+                          "true_height_m", "true_release_t_s", "true_end"})
+      EXPECT_TRUE(f.extra.count(k)) << k;
+    const double v = std::stod(f.extra.at("true_speed_m_s"));
+    EXPECT_GT(v, 6.0);
+    EXPECT_LT(v, 12.0);
+    // frames at 1/60 s
+    for (std::size_t k = 1; k < f.points.size(); ++k)
+      EXPECT_NEAR(f.points[k].t - f.points[k - 1].t, 1.0 / 60, 1e-9);
+  }
+}
+
+// Tracking noise: the difference between a noisy and a noise-free recording
+// of the same draws has standard deviation sigma per coordinate (chi-square
+// bounds for ~700 samples: +-10 %).
+TEST(ReferenceGenerate, TrackingNoiseHasTheRequestedSigma) {
+  const auto g = training(2);
+  GenerateOptions clean = quick(), noisy = quick();
+  clean.flights_per_glider = noisy.flights_per_glider = 20;
+  clean.camera.noise_sigma_m = 0.0;
+  noisy.camera.noise_sigma_m = 0.05;
+  const Dataset a = generate_dataset(g, clean), b = generate_dataset(g, noisy);
+  double s2 = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < a.flights.size(); ++i)
+    for (std::size_t k = 0; k < a.flights[i].points.size(); ++k) {
+      const double dx = b.flights[i].points[k].x - a.flights[i].points[k].x;
+      const double dy = b.flights[i].points[k].y - a.flights[i].points[k].y;
+      s2 += dx * dx + dy * dy;
+      n += 2;
+    }
+  ASSERT_GT(n, 1000);
+  EXPECT_NEAR(std::sqrt(s2 / n), 0.05, 0.005);
+}
+
+// Session effects: a headwind shortens the recorded distance; the camera
+// effect scales and rolls every recorded point about the camera centre;
+// launch_rotation adds its nominal pitch rate at release.
+TEST(ReferenceGenerate, SessionEffectsActAsDocumented) {
+  const auto g = training(1);
+  GenerateOptions base = quick();
+  base.camera.noise_sigma_m = 0;
+  base.window = TrackWindow::Whole;
+  GenerateOptions wind = base, cam = base, rot = base;
+  wind.effects.wind.on = true;
+  wind.effects.wind.strength = 2.0;  // 2 m/s headwind
+  cam.effects.camera.on = true;
+  rot.effects.launch_rotation.on = true;
+  const Dataset d0 = generate_dataset(g, base), dw = generate_dataset(g, wind);
+  const Dataset dc = generate_dataset(g, cam), dr = generate_dataset(g, rot);
+  for (std::size_t i = 0; i < d0.flights.size(); ++i) {
+    EXPECT_LT(dw.flights[i].points.back().x, d0.flights[i].points.back().x - 0.5);
+    // camera: the same flight seen through k = 1.03, phi = 2 deg
+    CameraModel c;
+    c.scale = 1 + c.scale_error;
+    c.roll_deg = c.roll_error_deg;
+    for (std::size_t k = 0; k < d0.flights[i].points.size(); ++k) {
+      const Vec2 q = c.project({d0.flights[i].points[k].x, d0.flights[i].points[k].y});
+      EXPECT_NEAR(dc.flights[i].points[k].x, q.x, 1e-9);
+      EXPECT_NEAR(dc.flights[i].points[k].y, q.y, 1e-9);
+    }
+    const double r0 = std::stod(d0.flights[i].extra.at("true_pitch_rate_deg_s"));
+    const double r1 = std::stod(dr.flights[i].extra.at("true_pitch_rate_deg_s"));
+    EXPECT_DOUBLE_EQ(r0, 0.0);
+    EXPECT_GT(r1, 0.0);  // 60 +- 20 deg/s
+    EXPECT_LT(r1, 150.0);
+  }
+}
+
+TEST(ReferenceGenerate, RejectsBadOptions) {
+  const auto g = training(1);
+  GenerateOptions o = quick();
+  o.flights_per_glider = 0;
+  EXPECT_THROW(generate_dataset(g, o), InputError);
+  o = quick();
+  o.points_min = 3;
+  EXPECT_THROW(generate_dataset(g, o), InputError);
+  o = quick();
+  o.camera.noise_sigma_m = std::nan("");
+  EXPECT_THROW(generate_dataset(g, o), InputError);
+  o = quick();
+  o.launcher.speed_min = 12;
+  o.launcher.speed_max = 8;
+  EXPECT_THROW(generate_dataset(g, o), InputError);
+  EXPECT_THROW(generate_dataset({}, quick()), InputError);
+  auto two = training(1);
+  two.push_back(two.front());
+  EXPECT_THROW(generate_dataset(two, quick()), InputError);
+  auto bad = training(1);
+  bad.front().first = "../evil";
+  EXPECT_THROW(generate_dataset(bad, quick()), InputError);
+}
