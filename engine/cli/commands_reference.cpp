@@ -125,6 +125,8 @@ int run_generate(const std::vector<std::string>& argv) {
   o.seed = static_cast<std::uint64_t>(seed);
   o.camera.noise_sigma_m = a.number("--noise-m", 0.05);
   o.camera.frame_rate_hz = a.number("--frame-rate", 30.0);
+  if (!(o.camera.noise_sigma_m > 0))
+    throw InputError("--noise-m must be positive (the dataset states the tracking sigma; use 1e-9 for almost exact points)");
   std::string pspec = a.get("--points", "15-20");
   if (pspec.find(':') == std::string::npos) std::replace(pspec.begin(), pspec.end(), '-', ':');
   const auto pts = range(pspec, "--points");

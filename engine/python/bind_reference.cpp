@@ -293,6 +293,7 @@ void bind_reference(py::module_& m) {
             gs.emplace_back(k, load_glider(p));
           }
         }
+        if (!(noise_m > 0)) throw InputError("noise_m must be positive (the dataset states the tracking sigma)");
         GenerateOptions o;
         o.effects = effects_of(effects, strengths);
         o.flights_per_glider = flights_per_glider;
