@@ -159,7 +159,7 @@ void bind_fabrication(py::module_& m) {
         "open slots as notches), holes (list of (k, 2) arrays, clockwise), cut_outline/cut_holes\n"
         "(laser paths offset by kerf/2), transform ((4, 4): plate (u, v, w, 1) -> glider (x, y, z, 1),\n"
         "w across the thickness, plate in w in [-t/2, t/2]), thickness_m, area_m2, design_area_m2,\n"
-        "joints (wing, type 'through_slot' | 'cross_lap' | 'halves', direction, split_x_m,\n"
+        "joints (wing, type 'through_slot' | 'notch' | 'cross_lap' | 'halves', direction, split_x_m,\n"
         "engaged_m, how, step, refused [{type, reason}], slots [{plate, rect (4, 2), open, width_m, ...}])\n"
         "and marks ({kind 'line' | 'cross' | 'text', points (m, 2) [m], text, size_m, angle_deg}).\n"
         "joint: None (choose), a type for every wing, or {wing name: type}.\n"

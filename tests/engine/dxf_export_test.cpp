@@ -63,8 +63,12 @@ void expect_valid_layout(const PlateSet& s, const Layout& l, const SheetOptions&
 
 TEST(DxfExport, PartsArePackedOnTheSheetWithoutOverlap) {
   for (const auto& [path, g] : test::examples()) {
-    if (path.find("three-wing") != std::string::npos) continue;
-    const PlateSet s = slotted_plates(g);
+    PlateSet s;
+    try {
+      s = slotted_plates(g);
+    } catch (const InputError&) {
+      continue;  // refused examples: tests/python/test_export.py checks their messages
+    }
     const SheetOptions o;
     const Layout l = layout_plates(s, o);
     EXPECT_EQ(l.sheets, 1) << path;  // every example fits one 600 x 900 mm foam board
