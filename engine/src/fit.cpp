@@ -452,8 +452,8 @@ class Fitter {
     Eigen::LevenbergMarquardt<Problem> lm(prob);
     lm.setMaxfev(10 * o_.max_iterations + 10);
     lm.setFactor(1.0);
-    lm.setFtol(1e-5);
-    lm.setXtol(1e-6);
+    lm.setFtol(1e-4);
+    lm.setXtol(1e-5);
     auto status = lm.minimizeInit(u);
     int it = 0;
     while (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters && it < o_.max_iterations) {
