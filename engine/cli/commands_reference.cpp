@@ -107,7 +107,7 @@ int run_generate(const std::vector<std::string>& argv) {
                              "--effects", "--strength", "--points", "--window", "--speed", "--climb",
                              "--height", "--wind", "--threads", "--dt", "--span-panels", "--chord-panels",
                              "--launch-rotation", "--camera-scale-error", "--camera-roll-deg"},
-                            {"--quiet"});
+                            {"--quiet", "--strict"});
   if (a.positional.empty()) throw InputError("missing GLIDER files (see --help)");
   if (a.has("-o") && a.has("--output")) throw InputError("give the output directory once (-o or --output)");
   const std::string out = strip_slash(a.has("-o") ? a.get("-o") : a.get("--output"));
@@ -171,8 +171,13 @@ int run_generate(const std::vector<std::string>& argv) {
       std::fprintf(stderr, "generate: %d/%d flights (%d%%, glider %s), %.1f s\n", done, total, pct, key.c_str(), el);
     }
   };
+  o.strict = a.flag("--strict");
   GenerateStats st;
   const Dataset d = generate_dataset(gliders, o, &st);
+  if (st.dropped > 0)
+    std::fprintf(stderr, "generate: warning: %d launches left out: no draw gave 6 tracked points (the glider hits the ground or tumbles at once)%s\n",
+                 st.dropped, st.dropped_gliders.empty() ? "" : "; gliders left out of the dataset:");
+  for (const auto& k : st.dropped_gliders) std::fprintf(stderr, "generate: warning:   %s\n", k.c_str());
 
   // Provenance beside the dataset (readers ignore unknown files).
   nlohmann::json gen;
@@ -204,6 +209,7 @@ int run_generate(const std::vector<std::string>& argv) {
   gen["panels"] = {{"span_per_half_wing", o.aero.span_panels}, {"chord", o.aero.chord_panels}};
   gen["dt_s"] = o.dt;
   gen["stats"] = {{"flights", st.flights}, {"redrawn", st.redrawn}, {"unstable", st.unstable},
+                  {"dropped_launches", st.dropped}, {"dropped_gliders", st.dropped_gliders},
                   {"setup_s", st.setup_seconds}, {"simulate_s", st.simulate_seconds}};
 
   // A new directory is written beside and renamed into place, so a failure
@@ -228,7 +234,7 @@ int run_generate(const std::vector<std::string>& argv) {
   const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << "wrote " << d.flights.size() << " flights of " << d.gliders.size() << " gliders to " << out
             << "/dataset.json (effects: " << o.effects.describe() << "; " << st.redrawn << " launches redrawn, "
-            << st.unstable << " flights end unstable; " << std::fixed;
+            << st.dropped << " left out, " << st.unstable << " flights end unstable; " << std::fixed;
   std::cout.precision(1);
   std::cout << el << " s)\n";
   return 0;
@@ -270,6 +276,9 @@ const bool registered_generate = register_command(
          "  --span-panels N           lattice strips per half wing (default 10)\n"
          "  --chord-panels N          lattice panels per strip (default 4)\n"
          "  --threads N               gliders simulated in parallel (default 2)\n"
+         "  --strict                  fail when a launch gives fewer than 6 tracked points in 20\n"
+         "                            draws (default: leave it out with a warning; a glider\n"
+         "                            without flights is left out of the dataset)\n"
          "  --quiet                   no progress on stderr\n",
          run_generate});
 

@@ -324,6 +324,8 @@ void bind_reference(py::module_& m) {
         r["flights"] = st.flights;
         r["redrawn"] = st.redrawn;
         r["unstable"] = st.unstable;
+        r["dropped"] = st.dropped;
+        r["dropped_gliders"] = st.dropped_gliders;
         r["setup_s"] = st.setup_seconds;
         r["simulate_s"] = st.simulate_seconds;
         r["effects"] = o.effects.describe();

@@ -225,7 +225,7 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
         std::iota(perm.begin(), perm.end(), 0);
         for (int i = nf - 1; i > 0; --i)
           std::swap(perm[i], perm[static_cast<int>(grng.uniform() * (i + 1)) % (i + 1)]);
-        int redrawn = 0, unstable = 0;
+        int redrawn = 0, unstable = 0, dropped = 0;
         std::vector<TrackedFlight> flights;
         for (int fi = 0; fi < nf; ++fi) {
           const LauncherModel& L = opt.launcher;
@@ -278,10 +278,11 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
             best.extra["true_end"] = end;
             if (end == "unstable") ++unstable;
           }
-          if (!ok)
+          if (!ok && opt.strict)
             throw InputError("glider '" + gkey + "': no launch in " + std::to_string(opt.max_attempts) +
                              " draws gave 6 tracked points (it hits the ground or tumbles at once)");
-          flights.push_back(std::move(best));
+          if (ok) flights.push_back(std::move(best));
+          else ++dropped;
           std::lock_guard<std::mutex> lk(mtx);
           ++done;
           if (opt.progress) opt.progress(done, total, gkey);
@@ -291,6 +292,7 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
         results[gi] = std::move(flights);
         st.redrawn += redrawn;
         st.unstable += unstable;
+        st.dropped += dropped;
         setup_s += std::chrono::duration<double>(t1 - t0).count();
         sim_s += std::chrono::duration<double>(t2 - t1).count();
       } catch (...) {
@@ -316,10 +318,17 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
   d.air_density = opt.env.air_density;
   d.air_viscosity = opt.env.air_viscosity;
   d.gravity = opt.env.gravity;
-  for (const auto& [k, g] : gliders) {
+  for (int gi = 0; gi < ng; ++gi) {
+    const auto& [k, g] = gliders[gi];
+    if (results[gi].empty()) {
+      st.dropped_gliders.push_back(k);
+      continue;
+    }
     d.gliders[k] = g;
     d.glider_files[k] = "gliders/" + k + ".glider.json";
   }
+  if (d.gliders.empty())
+    throw InputError("no glider gave a single flight with 6 tracked points (they hit the ground or tumble at once)");
   d.extra_columns = {"true_speed_m_s", "true_climb_deg", "true_pitch_deg", "true_pitch_rate_deg_s",
                      "true_height_m", "true_release_t_s", "true_end"};
   for (auto& fl : results)

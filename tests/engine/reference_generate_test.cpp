@@ -220,3 +220,30 @@ TEST(ReferenceGenerate, RejectsBadOptions) {
   bad.front().first = "../evil";
   EXPECT_THROW(generate_dataset(bad, quick()), InputError);
 }
+
+// Launches that never give 6 tracked points (here a delta whose main wing is
+// mounted at 40 deg: it tumbles within a few frames in most draws) are left
+// out and counted, and the dataset stays valid; strict refuses them. When
+// no glider gives a single flight (every launch dives into the ground) the
+// dataset is refused.
+TEST(ReferenceGenerate, LeavesOutLaunchesThatCannotBeTrackedAndSaysSo) {
+  auto g = training(2);  // canard, delta
+  g[1].second.wings[0].mount.angle_deg = 40;
+  ASSERT_TRUE(validation_problems(g[1].second).empty());
+  GenerateOptions o = quick();
+  GenerateStats st;
+  const Dataset d = generate_dataset(g, o, &st);
+  EXPECT_GE(st.dropped, 1);
+  EXPECT_EQ(static_cast<int>(d.flights.size()) + st.dropped, 6);
+  EXPECT_GT(st.redrawn, 0);
+  EXPECT_TRUE(st.dropped_gliders.empty());
+  EXPECT_TRUE(dataset_problems(d).empty());
+  o.strict = true;
+  EXPECT_THROW(generate_dataset(g, o), InputError);
+  GenerateOptions dive = quick();
+  dive.launcher.climb_min_deg = dive.launcher.climb_max_deg = -80;
+  dive.launcher.pitch_offset_deg = 0;
+  dive.launcher.height = 0.05;
+  dive.launcher.height_sigma = 0;
+  EXPECT_THROW(generate_dataset(g, dive), InputError);
+}

@@ -221,3 +221,23 @@ def test_generate_refuses_missing_inputs(tmp_path):
     r = run(["generate", broken, "-o", tmp_path / "ds"])
     assert r.returncode == 2
     assert not (tmp_path / "ds").exists()
+
+
+def test_generate_warns_about_launches_it_leaves_out(tmp_path):
+    """A delta with its main wing mounted at 40 deg tumbles within a few frames
+    in most draws: launches without 6 tracked points are left out with a
+    warning (exit 0), or refused with --strict (exit 2, no output)."""
+    g = json.load(open(DELTA))
+    g["wings"][0]["mount"]["angle_deg"] = 40.0
+    bad = tmp_path / "bad.glider.json"
+    bad.write_text(json.dumps(g))
+    r = run(["generate", bad, CANARD, "-o", tmp_path / "ds", "--flights-per-glider", "3", "--seed", "7", "--quiet"])
+    assert r.returncode == 0, r.stderr
+    assert "left out" in r.stderr
+    _, flights = read_csv(tmp_path / "ds" / "flights.csv")
+    assert 3 <= len(flights) < 6
+    assert json.load(open(tmp_path / "ds" / "generation.json"))["stats"]["dropped_launches"] == 6 - len(flights)
+    r = run(["generate", bad, CANARD, "-o", tmp_path / "strict", "--flights-per-glider", "3", "--seed", "7",
+             "--quiet", "--strict"])
+    assert r.returncode == 2 and "6 tracked points" in r.stderr
+    assert not (tmp_path / "strict").exists()

@@ -308,6 +308,11 @@ struct GenerateOptions {
   TrackWindow window = TrackWindow::Launch;
   double dt = 0.002;       ///< simulation step [s]
   int max_attempts = 20;   ///< draws per flight until it has >= 6 tracked points
+  /// A launch none of whose draws gives 6 tracked points (the glider hits the
+  /// ground or tumbles at once in this reality) is left out and reported in
+  /// GenerateStats; a glider left without flights is left out of the dataset.
+  /// strict: throw InputError instead.
+  bool strict = false;
   int threads = 2;         ///< gliders are simulated in parallel
   Environment env;
   /// Called after every flight with (flights done, flights total, glider key).
@@ -319,6 +324,8 @@ struct GenerateStats {
   int flights = 0;
   int redrawn = 0;          ///< draws rejected (fewer than 6 tracked points)
   int unstable = 0;         ///< kept flights that ended unstable in the reference
+  int dropped = 0;          ///< launches left out (no draw gave 6 tracked points)
+  std::vector<std::string> dropped_gliders;  ///< gliders left out (no flight at all)
   double setup_seconds = 0, simulate_seconds = 0;
 };
 
