@@ -305,8 +305,13 @@ class Fitter {
   /// (forward differences, one flight simulated per column) and the
   /// projection J <- (I - Q Q^T) J of the rows of J belonging to the flight,
   /// Q an orthonormal basis of that Jacobian's columns (Kaufman 1975).
+  /// With `G`, also G[f] = (J_L^T J_L)^-1 J_L^T J_f for the first matrix J
+  /// (before projection): how the flight's optimal launch moves with the
+  /// values to first order, dL = -G du (implicit function theorem), used to
+  /// warm-start the launch re-fits of the next evaluations.
   void project_out_launches(const std::shared_ptr<const CoefficientModel>& model, const std::vector<LaunchParams>& L,
-                            std::vector<Eigen::MatrixXd*> Js) {
+                            std::vector<Eigen::MatrixXd*> Js, std::vector<Eigen::MatrixXd>* G = nullptr) {
+    if (G) G->assign(flights_.size(), Eigen::MatrixXd());
     const auto mounted = mount_all(model, threads_);
     parallel_for(static_cast<int>(flights_.size()), threads_, [&](int fi) {
       const auto& fc = flights_[fi];
@@ -337,6 +342,11 @@ class Fitter {
       simulations_ += np + 1;
       const Eigen::HouseholderQR<Eigen::MatrixXd> qr(JL);
       const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(2 * n, np);
+      if (G && !Js.empty()) {
+        const Eigen::MatrixXd R = qr.matrixQR().topRows(np).triangularView<Eigen::Upper>();
+        (*G)[fi] = R.triangularView<Eigen::Upper>().solve(Q.transpose() * Js[0]->middleRows(2 * fc.offset, 2 * n));
+        if (!(*G)[fi].allFinite()) (*G)[fi].resize(0, 0);  // a degenerate launch Jacobian: no prediction
+      }
       for (Eigen::MatrixXd* J : Js) {
         auto rows = J->middleRows(2 * fc.offset, 2 * n);
         rows -= Q * (Q.transpose() * rows);
@@ -350,7 +360,7 @@ class Fitter {
     const auto t = Clock::now();
     const auto mounted = mount_all(m, threads_);
     L.resize(flights_.size());
-    lr.resize(flights_.size());
+    lr.resize(flights_.size(), std::numeric_limits<double>::infinity());
     std::atomic<long> sims{0};
     parallel_for(static_cast<int>(flights_.size()), threads_, [&](int fi) {
       const auto& fc = flights_[fi];
@@ -358,10 +368,12 @@ class Fitter {
       const QuasiStaticAero qa(*mounted[fc.glider]);
       LaunchFit f;
       if (warm) {
+        const double before = lr[fi];
         f = fit_launch(qa, g.body, fc.points, lopt_, &L[fi]);
         // A warm start can sit in a poor local minimum after the model moved:
-        // fall back to the multi-start when it fits much worse than the noise.
-        if (f.rmse_m > 3 * d_.tracking_sigma_m) {
+        // fall back to the multi-start when it fits much worse than the noise
+        // and than the same flight did before.
+        if (f.rmse_m > 3 * d_.tracking_sigma_m && !(f.rmse_m < 1.5 * before + d_.tracking_sigma_m)) {
           const LaunchFit g2 = fit_launch(qa, g.body, fc.points, lopt_);
           f.evaluations += g2.evaluations;
           if (g2.rmse_m < f.rmse_m) f = g2;
@@ -394,6 +406,10 @@ class Fitter {
       std::vector<double> lr;
     };
     std::vector<Cached> cache;
+    // Linearisation of the launches at the last Jacobian: L*(u) ~ L_J - G (u - u_J).
+    Eigen::VectorXd u_J;
+    std::vector<LaunchParams> L_J;
+    std::vector<Eigen::MatrixXd> G;
     Problem(Fitter& f, const std::vector<RbfCentre>& c, const std::vector<Coefficients>& r, bool proj)
         : DenseFunctor<double>(3 * static_cast<int>(c.size()), f.residual_count(c.size())), F(f), cs(c), ref(r),
           projected(proj) {}
@@ -409,6 +425,17 @@ class Fitter {
           if (!best || k.e.sse < best->e.sse) best = &k;
         c.L = best ? best->L : F.launches_;
         c.lr = best ? best->lr : F.launch_rmse_;
+        if (u_J.size() == u.size() && L_J.size() == c.L.size()) {
+          const Eigen::VectorXd du = u - u_J;
+          for (std::size_t fi = 0; fi < c.L.size(); ++fi) {
+            if (G[fi].rows() == 0) continue;
+            const Eigen::VectorXd dL = -G[fi] * du;
+            LaunchParams p = L_J[fi];
+            double* v[6] = {&p.x, &p.y, &p.speed, &p.climb, &p.pitch, &p.pitch_rate};
+            for (int k = 0; k < dL.size(); ++k) *v[k] += dL(k);
+            c.L[fi] = p;
+          }
+        }
         c.e = F.evaluate_projected(u, cs, ref, c.L, c.lr);
       } else {
         c.L = F.launches_;
@@ -436,7 +463,11 @@ class Fitter {
         const Eval e = F.evaluate(up, cs, ref, 1, c.L);
         J.col(j) = (e.r - c.e.r) / kStep;
       });
-      if (projected) F.project_out_launches(F.model_of(u, cs, ref), c.L, {&J});
+      if (projected) {
+        F.project_out_launches(F.model_of(u, cs, ref), c.L, {&J}, &G);
+        u_J = u;
+        L_J = c.L;
+      }
       return 0;
     }
   };
