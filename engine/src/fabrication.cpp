@@ -364,7 +364,7 @@ PlateCheck check_plate(const std::string& plate_words, const std::string& coords
           }
         }
       }
-      inner = lam_min - 2 * min_web;
+      inner = std::isfinite(lam_min) ? lam_min - 2 * min_web : s.length_m;
     } else {
       pc.inside_len[k] = s.length_m;
     }
@@ -430,7 +430,9 @@ std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
   open = false;
   const auto closed = check_plate("the fuselage", "x, y", c.fus, c.fus_set, holes, c.o.min_web_m);
   if (closed.problem.empty()) return "";
-  if (closed.problem.find("break through the edge") == std::string::npos) return closed.problem;
+  if (closed.problem.find("break through the edge") == std::string::npos &&
+      closed.problem.find("would leave a web of only") == std::string::npos)
+    return closed.problem;  // cut in two, or too close to another wing's slot
   std::vector<Slot> notches = holes;
   bool any = false;
   for (auto& h : notches) {
@@ -444,12 +446,100 @@ std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
       h.axis_dir = Vec2{-h.axis_dir.x, -h.axis_dir.y};
     }
   }
-  if (!any) return closed.problem;
-  const auto pn = check_plate("the fuselage", "x, y", c.fus, c.fus_set, notches, c.o.min_web_m);
-  if (!pn.problem.empty()) return closed.problem + " (as a notch open at the edge: " + pn.problem + ")";
-  holes = notches;
-  open = true;
-  return "";
+  std::string notch_problem;
+  if (any) {
+    const auto pn = check_plate("the fuselage", "x, y", c.fus, c.fus_set, notches, c.o.min_web_m);
+    if (pn.problem.empty()) {
+      holes = notches;
+      open = true;
+      return "";
+    }
+    notch_problem = pn.problem;
+  }
+  // A channel: where the web between a hole's long side and the plate's edge
+  // is thinner than the minimum, that web is cut away (the hole opens to the
+  // edge there; a saddle for a wing on the fuselage's top or bottom edge).
+  // Elsewhere the hole stays closed. The wing rests on the hole's far face,
+  // tilted by the mounting angle, between the closed parts.
+  const double mw = c.o.min_web_m;
+  std::string channel_problem;
+  for (int sg : {+1, -1}) {
+    std::vector<Slot> ch;
+    bool opened = false;
+    std::string far_problem;
+    for (const auto& h : holes) {
+      const Vec2 n{-h.axis_dir.y, h.axis_dir.x};
+      const Vec2 up = static_cast<double>(sg) * n, down{-up.x, -up.y};
+      const double L = h.length_m, w = h.width_m;
+      const int N = std::max(40, static_cast<int>(std::ceil(L / 0.00025)));
+      std::vector<double> web(N + 1);
+      std::vector<Iv> thin;
+      for (int i = 0; i <= N; ++i) {
+        const Vec2 q = h.axis_origin + (L * i / N) * h.axis_dir + (w / 2) * up;
+        double lam;
+        Vec2 e;
+        web[i] = first_crossing(c.fus, q, up, c.R, lam, e) ? lam : std::numeric_limits<double>::infinity();
+        if (!fab::point_in_polygon(c.fus, q)) web[i] = 0;
+        if (web[i] < mw) thin.push_back({std::max(0.0, L * i / N - mw), std::min(L, L * i / N + mw)});
+      }
+      thin = merge_iv(thin);
+      if (thin.empty()) {
+        ch.push_back(h);
+        continue;
+      }
+      opened = true;
+      // closed parts reach 10 um into the opened parts so that the cut is one
+      // region (an exactly shared edge would leave a zero-width wall)
+      for (auto piece : iv_subtract({{0.0, L}}, thin)) {
+        if (piece.b - piece.a <= 1e-6) continue;
+        if (piece.a > 0) piece.a -= 1e-5;
+        if (piece.b < L) piece.b += 1e-5;
+        ch.push_back(make_slot(h.plate, h.wing, h.axis_origin + piece.a * h.axis_dir, h.axis_dir, piece.b - piece.a, w,
+                               false));
+      }
+      for (const auto& iv : thin) {
+        // deep enough to break through everywhere along the piece
+        double M = 0;
+        for (int i = 0; i <= N; ++i) {
+          const double si = L * i / N;
+          if (si >= iv.a - 1e-12 && si <= iv.b + 1e-12 && std::isfinite(web[i])) M = std::max(M, web[i]);
+        }
+        M = std::min(M + 0.0002, 3 * mw + c.t);
+        const Vec2 origin = h.axis_origin + (0.5 * (iv.a + iv.b)) * h.axis_dir + (w / 2) * down;
+        ch.push_back(make_slot(h.plate, h.wing, origin, up, w + M, iv.b - iv.a, true));
+        // the web on the far side of the opened part must stay (rays away from the opening)
+        for (int i = 0; i <= N && far_problem.empty(); ++i) {
+          const double si = L * i / N;
+          if (si < iv.a || si > iv.b) continue;
+          const Vec2 q = h.axis_origin + si * h.axis_dir + (w / 2) * down;
+          if (!fab::point_in_polygon(c.fus, q)) continue;  // no fuselage here at all
+          double lam;
+          Vec2 e;
+          if (first_crossing(c.fus, q, down, c.R, lam, e) && lam < mw - 1e-12)
+            far_problem = slot_words(holes, {0}) + " would leave a web of only " + mm(lam, 2) +
+                          " mm in the fuselage on both sides near (x, y) = (" + mm(q.x) + ", " + mm(q.y) +
+                          ") mm; the minimum web is " + mmv(mw) + " mm";
+        }
+      }
+    }
+    if (!opened) continue;
+    if (!far_problem.empty()) {
+      if (channel_problem.empty()) channel_problem = far_problem;
+      continue;
+    }
+    const auto pc = check_plate("the fuselage", "x, y", c.fus, c.fus_set, ch, c.o.min_web_m);
+    if (pc.problem.empty()) {
+      holes = ch;
+      open = true;
+      return "";
+    }
+    if (channel_problem.empty()) channel_problem = pc.problem;
+  }
+  if (channel_problem.empty()) channel_problem = "no thin web to open";
+  std::string why = closed.problem;
+  if (!notch_problem.empty()) why += " (as a notch open at the edge: " + notch_problem + ")";
+  why += " (as a channel open to the nearer edge: " + channel_problem + ")";
+  return why;
 }
 
 Candidate through_slot(const Ctx& c, std::size_t j, const std::vector<Iv>& S, const std::vector<Iv>& BF) {

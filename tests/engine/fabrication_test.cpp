@@ -161,15 +161,39 @@ TEST(Fabrication, SlotThatCutsThePlateInTwoIsRefused) {
   EXPECT_NE(e.find("would cut the fuselage in two"), std::string::npos) << e;
 }
 
-// Wing 1.5 mm below the top edge of a 20 mm fuselage, no clearance: the web
-// above the 1 mm slot is 1.5 - 0.5 = 1.0 mm < 2 mm.
-TEST(Fabrication, SlotLeavingAThinWebIsRefusedWithItsWidth) {
+// Wing 1.5 mm below the top edge of a 20 mm fuselage, no clearance: a closed
+// slot would leave 1.5 - 0.5 = 1.0 mm of foam above it (< 2 mm), so that strip
+// is cut away: the slot opens to the top edge (a saddle) and the wing rests on
+// its lower face. Nothing of the fuselage within 2 mm above the slot remains.
+TEST(Fabrication, ThinWebBesideASlotIsCutAwayIntoAnOpenSaddle) {
   const Glider g = test::simple_glider(0.06, 0.4, -0.1, 0.0085, 0.0);
   FabricationOptions o;
   o.clearance_m = 0;
-  const std::string e = error_of(g, o);
-  EXPECT_NE(e.find("web of only 1.00 mm"), std::string::npos) << e;
-  o.min_web_m = 0.0009;
+  const PlateSet s = slotted_plates(g, o);
+  EXPECT_EQ(joint_of(s, "main").type, JointType::Notch);
+  const Plate& f = s.plates[0];
+  EXPECT_TRUE(f.holes.empty());  // the slot is part of the outline now
+  // the lower face of the slot is still there: a point 0.1 mm below it is material
+  EXPECT_TRUE(fab::inside({f.outline, f.holes}, {-0.13, 0.0085 - 0.0005 - 0.0001}));
+  // the 1 mm strip above it is gone
+  EXPECT_FALSE(fab::inside({f.outline, f.holes}, {-0.13, 0.0085 + 0.0005 + 0.0005}));
+  // area removed: the slot (60 x 1 mm) plus the strip above it (60 x 1 mm), no more than
+  // that plus the small overcut toward the ends (two min-web margins)
+  const double removed = 0.3 * 0.02 - f.area_m2;
+  EXPECT_GE(removed, 0.06 * 0.002 - 1e-12);
+  EXPECT_LE(removed, 0.064 * 0.0022);
+}
+
+// A 3.55 mm tall fuselage: a 1.05 mm slot in its middle leaves 1.25 mm on
+// both sides, under the 2 mm minimum, whichever side is opened.
+TEST(Fabrication, SlotLeavingThinWebsOnBothSidesIsRefusedWithTheirWidth) {
+  Glider g = test::simple_glider(0.06, 0.4, -0.1, 0.0, 0.0);
+  g.fuselage = rect(-0.3, -0.00355 / 2, 0.0, 0.00355 / 2);
+  const std::string e = error_of(g);
+  EXPECT_NE(e.find("no joint can hold wing 'main'"), std::string::npos) << e;
+  EXPECT_NE(e.find("web of only 1.25 mm"), std::string::npos) << e;
+  FabricationOptions o;
+  o.min_web_m = 0.0012;
   EXPECT_EQ(error_of(g, o), "");
 }
 

@@ -191,12 +191,14 @@ TEST(StepExport, ReadBackGivesOneNamedSolidPerPlateWithAreaTimesThickness) {
 // can see an overlap) and at most the interference band: |c| x t x engaged
 // length per joint (the slot's two long sides each overlap |c|/2 x t).
 TEST(StepExport, AssembledSolidsDoNotInterpenetrateBeyondTheClearance) {
-  for (const char* name : {"tapered", "swept-back", "canard", "delta", "rectangular"}) {
-    const Glider g = load_glider(test::source_path(std::string("examples/gliders/") + name + ".glider.json"));
+  for (const char* name : {"examples/gliders/tapered", "examples/gliders/swept-back", "examples/gliders/canard",
+                           "examples/gliders/delta", "examples/gliders/rectangular",
+                           "tests/data/fabrication/edge_mounted_tail"}) {
+    const Glider g = load_glider(test::source_path(std::string(name) + ".glider.json"));
     for (double clearance : {0.00005, -0.0001}) {
       FabricationOptions o;
       o.clearance_m = clearance;
-      const Written w = write_and_read(g, o, name);
+      const Written w = write_and_read(g, o, stem(name));
       ASSERT_EQ(w.rb.shapes.size(), w.plates.plates.size());
       double total = 0, bound = 0;
       for (const auto& j : w.plates.joints) {
@@ -293,9 +295,11 @@ TEST(StepExport, FusedOptionWritesOneSolidOfTheUnion) {
 // collide.
 TEST(StepExport, AssemblyPathsAreFreeOfMaterial) {
   const auto t0 = std::chrono::steady_clock::now();
-  for (const char* name : {"tapered", "swept-back", "delta", "small-dart", "canard"}) {
-    const Glider g = load_glider(test::source_path(std::string("examples/gliders/") + name + ".glider.json"));
-    const Written w = write_and_read(g, {}, name);
+  for (const char* name : {"examples/gliders/tapered", "examples/gliders/swept-back", "examples/gliders/delta",
+                           "examples/gliders/small-dart", "examples/gliders/canard", "examples/gliders/three-wing",
+                           "tests/data/fabrication/edge_mounted_tail", "tests/data/fabrication/edge_mounted_canard"}) {
+    const Glider g = load_glider(test::source_path(std::string(name) + ".glider.json"));
+    const Written w = write_and_read(g, {}, stem(name));
     const auto& plates = w.plates.plates;
     std::vector<std::size_t> placed{0};  // the fuselage
     std::vector<std::size_t> order(w.plates.joints.size());
