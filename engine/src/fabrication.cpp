@@ -203,6 +203,7 @@ struct Candidate {
   double split = 0, ea = 0, eb = 0;
   double fus_len = 0;  ///< length of fuselage slot inside the plate (cross-lap)
   bool long_lap = false;  ///< cross-lap whose open slot is longer than the joint
+  std::string note;       ///< what a person should know (a slot opened to the edge)
   std::vector<EPset> wing_parts;  ///< whole (slotted) wing, or right and left halves
 };
 
@@ -426,7 +427,7 @@ std::string wing_words(const Ctx& c, std::size_t j) { return "wing " + quote(c.g
 /// fuselage's edge at one end (the root chord reaches the edge), tries it as a
 /// notch open at that end. Returns the problem ("" when fine); `open` tells
 /// whether the notch variant was used.
-std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
+std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open, std::string& note) {
   open = false;
   const auto closed = check_plate("the fuselage", "x, y", c.fus, c.fus_set, holes, c.o.min_web_m);
   if (closed.problem.empty()) return "";
@@ -452,6 +453,7 @@ std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
     if (pn.problem.empty()) {
       holes = notches;
       open = true;
+      note = slot_words(holes, {0}) + " opens at the fuselage's edge, where its root chord reaches the edge";
       return "";
     }
     notch_problem = pn.problem;
@@ -466,6 +468,7 @@ std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
   for (int sg : {+1, -1}) {
     std::vector<Slot> ch;
     bool opened = false;
+    double opened_len = 0;
     std::string far_problem;
     for (const auto& h : holes) {
       const Vec2 n{-h.axis_dir.y, h.axis_dir.x};
@@ -498,6 +501,7 @@ std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
                                false));
       }
       for (const auto& iv : thin) {
+        opened_len += iv.b - iv.a;
         // deep enough to break through everywhere along the piece
         double M = 0;
         for (int i = 0; i <= N; ++i) {
@@ -531,6 +535,9 @@ std::string check_holes(const Ctx& c, std::vector<Slot>& holes, bool& open) {
     if (pc.problem.empty()) {
       holes = ch;
       open = true;
+      note = slot_words(holes, {0}) + " is opened to the fuselage's edge over " + mm(opened_len) +
+             " mm, where a closed slot would leave less than the " + mmv(mw) +
+             " mm minimum web; the wing rests on the slot's far face there (glue it)";
       return "";
     }
     if (channel_problem.empty()) channel_problem = pc.problem;
@@ -587,7 +594,7 @@ Candidate through_slot(const Ctx& c, std::size_t j, const std::vector<Iv>& S, co
     return k;
   }
   bool open = false;
-  k.problem = check_holes(c, k.fus_slots, open);
+  k.problem = check_holes(c, k.fus_slots, open, k.note);
   if (open) k.type = JointType::Notch;
   return k;
 }
@@ -614,7 +621,7 @@ Candidate halves(const Ctx& c, std::size_t j, const std::vector<Iv>& S) {
     k.wing_parts.push_back(h);
   }
   bool open = false;
-  k.problem = check_holes(c, k.fus_slots, open);
+  k.problem = check_holes(c, k.fus_slots, open, k.note);
   return k;
 }
 
@@ -999,6 +1006,7 @@ PlateSet slotted_plates(const Glider& g, const FabricationOptions& o) {
                                     }),
                      jt.refused.end());
     out.joints.push_back(jt);
+    if (!k.note.empty()) out.warnings.push_back(k.note);
   }
   for (std::size_t s = 0; s < order.size(); ++s) out.joints[order[s]].step = static_cast<int>(s) + 1;
 
