@@ -94,7 +94,10 @@ struct Slot {
   Vec2 axis_origin;      ///< centre of the closed end (one end of a closed hole)
   Vec2 axis_dir;         ///< unit vector along the slot (toward the opening)
   double length_m = 0;   ///< along axis_dir (open slots: reaches beyond the plate)
-  double width_m = 0;    ///< thickness + clearance
+  /// Across axis_dir: thickness + clearance for slots along the root chord; for
+  /// a piece of a hole opened to the plate's edge (axis across the chord), the
+  /// length of chord it opens.
+  double width_m = 0;
 };
 
 /// One wing-fuselage intersection and how it is built.
