@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <unistd.h>
 
 #include <BRepAlgoAPI_Fuse.hxx>
@@ -102,6 +103,10 @@ class QuietOcct {
 };
 
 void write_doc(const std::vector<std::pair<std::string, TopoDS_Shape>>& shapes, const std::string& path) {
+  // The XCAF application, the STEP settings and the message printers are
+  // process-wide: one writer at a time (Python threads may call export).
+  static std::mutex m;
+  const std::lock_guard<std::mutex> lock(m);
   Handle(XCAFApp_Application) app = XCAFApp_Application::GetApplication();
   Handle(TDocStd_Document) doc;
   app->NewDocument("MDTV-XCAF", doc);
