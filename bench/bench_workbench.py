@@ -4,8 +4,9 @@
 #   PTEROMYS_PYTHONPATH=build/python PTEROMYS_BENCH_N=40 freecadcmd bench/bench_workbench.py
 #
 # For the template glider (fuselage, main wing, tail), each sample changes a
-# named sketch dimension (the main wing's span, alternating 420/424 mm as a
-# drag would) and times doc.recompute(): sketch solve, outlines, validation,
+# named sketch dimension (the main wing's span, alternating 420/424 mm, and in
+# the last row growing by 2 mm per edit as a drag does) and times
+# doc.recompute(): sketch solve, outlines, validation,
 # evaluation or optimisation, slotted plates and their solids. Target (issue
 # 5): median <= 150 ms with optimisation and slotted plates on this machine.
 #
@@ -32,15 +33,19 @@ N = int(os.environ.get("PTEROMYS_BENCH_N", "30"))
 WARMUP = 3
 
 
-def run(name, auto_optimise, slotted):
+def run(name, auto_optimise, slotted, drag=False):
     doc = App.newDocument("Bench")
-    g = pf.new_glider(doc, auto_optimise=auto_optimise)
+    t = time.perf_counter()
+    g = pf.new_glider(doc, auto_optimise=auto_optimise, recompute=False)
     g.Slotted = slotted
     doc.recompute()
+    first_ms = (time.perf_counter() - t) * 1000.0
     sketch = next(w for w in g.Wings if w.WingName == "main").Sketch
     times, inner, parts = [], [], {}
     for i in range(WARMUP + N):
-        sketch.setDatum("Span", App.Units.Quantity("%d mm" % (424 if i % 2 else 420)))
+        # a toggle between two spans, or a drag: a new span at every edit (420, 422, 424, ... mm)
+        span = 420 + 2 * i if drag else (424 if i % 2 else 420)
+        sketch.setDatum("Span", App.Units.Quantity("%d mm" % span))
         t = time.perf_counter()
         doc.recompute()
         dt = (time.perf_counter() - t) * 1000.0
@@ -60,6 +65,7 @@ def run(name, auto_optimise, slotted):
         "slots_cut": any(p.get("holes") for p in (data.get("plates") or [])) or None,
         "notes": data.get("notes", []),
         "n": len(times),
+        "first_recompute_ms": first_ms,
         "median_ms": statistics.median(times),
         "p90_ms": sorted(times)[int(0.9 * (len(times) - 1))],
         "min_ms": min(times),
@@ -77,7 +83,8 @@ def main():
     features = {f: pf.feature_missing(f) is None for f in ("optimize", "slotted_plates", "export")}
     rows = [run("evaluate only, plain plates", False, False),
             run("evaluate + slotted plates", False, True),
-            run("optimise + slotted plates (target)", True, True)]
+            run("optimise + slotted plates (target)", True, True),
+            run("same, drag: +2 mm span per edit", True, True, drag=True)]
     print()
     print("Pteromys workbench: recompute after a sketch edit (template glider), %d samples each" % N)
     print("machine: %s, %d cores; FreeCAD %s; engine %s" % (platform.processor() or platform.machine(), os.cpu_count(),
@@ -90,7 +97,8 @@ def main():
                                                                 r["max_ms"], parts))
         for n in r["notes"]:
             print("%-38s   note: %s" % ("", n))
-    target = rows[-1]
+    print("first recompute of a new template glider (cold optimisation): %.0f ms" % rows[2]["first_recompute_ms"])
+    target = rows[2]
     complete = features["optimize"] and features["slotted_plates"]
     verdict = ("meets" if target["median_ms"] <= 150.0 else "MISSES") + " the 150 ms target"
     if not complete:

@@ -75,6 +75,17 @@ try:
     v.saveImage(os.path.join(SHOTS, "view3d.png"), 1200, 700, "White")
     screen(os.path.join(SHOTS, "main.png"))
     flight_view.grab(os.path.join(SHOTS, "flight.png"))
+    # a close-up of the main wing passing through its slot in the fuselage
+    import pivy.coin as coin
+    cam = v.getCameraNode()
+    c = g.Shape.BoundBox.Center
+    root = g.Placement.multVec(App.Vector(main.MountedX.Value - 20, main.MountedY.Value, 0))
+    cam.position.setValue(cam.position.getValue() + coin.SbVec3f(root.x - c.x, root.y - c.y, root.z - c.z))
+    cam.height.setValue(cam.height.getValue() / 5)
+    pump(20)
+    v.saveImage(os.path.join(SHOTS, "joint.png"), 1000, 700, "White")
+    v.fitAll()
+    pf.export_dxf(g, os.path.join(SHOTS, "glider.dxf"))
     # the task panel
     Gui.ActiveDocument.setEdit(g.Name)
     pump()
@@ -129,6 +140,22 @@ def image(path):
     return (a[..., :3] * 255).astype(np.uint8) if a.dtype != np.uint8 else a[..., :3]
 
 
+def render_dxf(path, png):
+    """The laser-cut parts of a DXF as an image (ezdxf's drawing add-on), sheet frames left out."""
+    import logging
+    import ezdxf
+    import matplotlib
+    matplotlib.use("Agg")
+    from ezdxf.addons.drawing import matplotlib as draw
+    logging.getLogger("matplotlib.font_manager").setLevel(logging.ERROR)
+    doc = ezdxf.readfile(str(path))
+    msp = doc.modelspace()
+    for e in list(msp):
+        if e.dxf.layer.upper() == "SHEET":
+            msp.delete_entity(e)
+    draw.qsave(msp, str(png), bg="#FFFFFF", dpi=200)
+
+
 @pytest.fixture(scope="module")
 def gui(fc_home, tmp_path_factory):
     for exe in ("xvfb-run", "freecad"):
@@ -152,8 +179,9 @@ def gui(fc_home, tmp_path_factory):
     keep = os.environ.get("PTEROMYS_SCREENSHOTS")
     if keep:
         os.makedirs(keep, exist_ok=True)
-        for name in ("main", "view3d", "flight", "task", "bad"):
+        for name in ("main", "view3d", "flight", "task", "bad", "joint"):
             shutil.copy(shots / (name + ".png"), os.path.join(keep, "workbench_%s.png" % name))
+        render_dxf(shots / "glider.dxf", os.path.join(keep, "workbench_dxf.png"))
     r["_shots"] = shots
     return r
 
@@ -196,3 +224,6 @@ def test_screenshots_show_the_glider_and_its_flights(gui):
         assert (np.abs(fl.astype(int) - c).sum(axis=2) < 40).sum() > 50, hexcol
     main = image(shots / "main.png")
     assert main.shape[0] >= 900 and main.std() > 20
+    joint = image(shots / "joint.png")
+    assert (joint.std(axis=2) > 0).sum() > 0 and joint.std() > 10     # the close-up is not blank
+    assert (shots / "glider.dxf").stat().st_size > 1000
