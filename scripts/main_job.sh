@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job on a bundled example: set up, build, then optimise the glider's
 # mounting and write the optimised glider, its flyability report, the
-# trajectories of the six standard launches and a plot of them.
+# trajectories of the six standard launches and a plot of them, and the
+# slotted plates as a laser-cutting DXF and a 3D STEP.
 #   scripts/main_job.sh [GLIDER.glider.json] [OUT_DIR]
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -18,4 +19,9 @@ echo "== evaluating $GLIDER as drawn"
 echo "== optimising its mounting"
 "$PT" optimize "$GLIDER" -o "$OUT/optimized.glider.json" --json "$OUT/report.json" --csv "$OUT/trajectories.csv"
 /usr/bin/python3 -m pteromys.plot "$OUT/report.json" "$OUT/trajectories.csv" "$OUT/launches.png"
-echo "== wrote $OUT/optimized.glider.json, report.json, trajectories.csv, launches.png"
+echo "== fabrication files of the optimised glider"
+"$PT" export "$OUT/optimized.glider.json" --dxf "$OUT/parts.dxf" --step "$OUT/glider.step" --json "$OUT/fabrication.json"
+/usr/bin/python3 -m pteromys.fabrication layout "$OUT/parts.dxf" "$OUT/parts.png"
+/usr/bin/python3 -m pteromys.fabrication assembly "$OUT/optimized.glider.json" "$OUT/assembly.png"
+echo "== wrote to $OUT: optimized.glider.json, report.json, trajectories.csv, launches.png,"
+echo "   parts.dxf (laser cutting), glider.step (3D print / CAD), fabrication.json, parts.png, assembly.png"
