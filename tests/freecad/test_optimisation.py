@@ -9,7 +9,7 @@ import subprocess
 
 import pytest
 
-from conftest import PTEROMYS_BIN, TEMPLATE_FACTS, feature_reason
+from conftest import PTEROMYS_BIN, TEMPLATE_FACTS, feature_reason, require
 
 
 def test_optimisation_makes_a_badly_mounted_glider_fly(fc, tmp_path):
@@ -57,3 +57,40 @@ RESULT["edited"] = facts(g)
     assert [l["distance_m"] for l in cli["launches"]] == pytest.approx(o["launch_distances_m"], rel=1e-6)
     e = r["edited"]["results"]
     assert e["problems"] == [] and e["flyable"] is True, e["status"]
+
+
+def test_optimise_now_stores_the_result_in_the_design(fc):
+    """With automatic optimisation off, 'Optimise now' writes the optimised
+    mounts into the design values (MountX...), which then stay as they are;
+    a locked variable keeps its design value; optimising the ballast moves it."""
+    require("optimize")
+    r = fc('''
+doc = App.newDocument("O")
+g = pf.new_glider(doc, auto_optimise=False)
+W = {w.WingName: w for w in g.Wings}
+W["tail"].MountAngle = 6.0
+W["main"].LockY = True
+doc.recompute()
+RESULT["before"] = pf.results(g)
+res = pf.optimise_now(g)
+RESULT["after"] = res
+RESULT["design"] = {n: [w.MountX.Value, w.MountY.Value, w.MountAngle.getValueAs("deg").Value] for n, w in W.items()}
+RESULT["mounted"] = {n: [w.MountedX.Value, w.MountedY.Value, w.MountedAngle.getValueAs("deg").Value] for n, w in W.items()}
+doc.recompute()                         # nothing changed: the stored design stays as it is
+RESULT["again"] = pf.results(g)
+g.OptimiseBallast = True
+g.BallastX = -60.0                      # a poor start far behind the nose
+doc.recompute()
+pf.optimise_now(g)
+RESULT["ballast_x"] = [g.BallastX.Value, g.BallastPlacedX.Value]
+RESULT["ballast_flyable"] = g.Flyable
+''')
+    b, a = r["before"], r["after"]
+    assert b["flyable"] is False and a["flyable"] is True, a["status"]
+    assert a["optimised"] is False            # automatic optimisation stays off: the design itself flies now
+    for n in ("main", "tail"):
+        assert r["mounted"][n] == pytest.approx(r["design"][n], abs=1e-9)
+    assert r["design"]["main"][1] == pytest.approx(4.0, abs=1e-12)                    # LockY held
+    assert r["again"]["launch_distances_m"] == pytest.approx(a["launch_distances_m"], rel=1e-12)
+    bx, placed = r["ballast_x"]
+    assert bx == pytest.approx(placed, abs=1e-9) and abs(bx + 60.0) > 1.0 and r["ballast_flyable"]

@@ -133,3 +133,28 @@ except ValueError as e:
     # default new wing: tapered, root 40, tip 30, span 150 mm
     assert r["area"] == pytest.approx(0.5 * (40 + 30) * 150, rel=1e-9)
     assert "already has a wing named 'main'" in r["dup"]
+
+
+def test_model_file_property(fc, tmp_path):
+    """The shipped model named explicitly gives the same flights as the default;
+    a model with a lower stall angle changes them; a missing file is an input error."""
+    other = tmp_path / "low_stall.model.json"
+    other.write_text(json.dumps({"format": "pteromys-model/1", "type": "flat_plate",
+                                 "params": {"stall_deg": 6.0}}))
+    r = fc('''
+doc = App.newDocument("M")
+g = pf.new_glider(doc, auto_optimise=False)
+d0 = list(g.LaunchDistances)
+g.ModelFile = pf.engine().default_model_path()
+doc.recompute()
+d1 = list(g.LaunchDistances)
+g.ModelFile = %r
+doc.recompute()
+d2, p2 = list(g.LaunchDistances), list(g.Problems)
+g.ModelFile = %r
+doc.recompute()
+RESULT.update(d0=d0, d1=d1, d2=d2, p2=p2, p3=list(g.Problems), model=pf.result_data(g)["report"].get("model"))
+''' % (str(other), str(tmp_path / "missing.model.json")))
+    assert r["d1"] == pytest.approx(r["d0"], rel=1e-12)
+    assert r["p2"] == [] and r["d2"] != pytest.approx(r["d0"], rel=1e-3)
+    assert r["p3"] and "does not exist" in r["p3"][0]
