@@ -41,7 +41,7 @@ nlohmann::json prediction_summary(const std::vector<FlightPrediction>& p) {
 int run_fit(const std::vector<std::string>& argv) {
   const std::set<std::string> valued = {"-o", "--json", "--max-centres", "--model", "--launch-points",
                                         "--min-improvement", "--rounds", "--iterations", "--robust",
-                                        "--regularisation", "--candidates", "--holdout", "--threads",
+                                        "--regularisation", "--candidates", "--holdout", "--threads", "--stop",
                                         "--dz", "--dt", "--integrator", "--note"};
   const Args a = parse_args(argv, valued, {"--quiet", "--no-prior", "--fit-pitch-rate"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
@@ -58,6 +58,14 @@ int run_fit(const std::vector<std::string>& argv) {
   opt.launch.fit_pitch_rate = a.flag("--fit-pitch-rate");
   opt.min_improvement = nonneg(a, "--min-improvement", opt.min_improvement);
   if (opt.min_improvement >= 1) throw InputError("--min-improvement is a fraction below 1");
+  const std::string stop = a.get("--stop", "bic");
+  if (stop == "none") {
+    if (a.has("--min-improvement")) throw InputError("--stop none keeps every centre; drop --min-improvement");
+    opt.information_criterion = false;
+    opt.min_improvement = 0;
+  } else if (stop != "bic") {
+    throw InputError("--stop must be bic or none, got '" + stop + "'");
+  }
   opt.max_rounds = whole(a, "--rounds", opt.max_rounds, 1, 100);
   opt.max_iterations = whole(a, "--iterations", opt.max_iterations, 1, 10000);
   opt.robust_m = nonneg(a, "--robust", opt.robust_m);
@@ -172,7 +180,7 @@ const bool registered_fit = register_command(60,
        "usage: pteromys fit DATASET.json -o MODEL.json [--json REPORT.json] [options]\n\n"
        "Learns the coefficients of the wing elements from tracked flights (paper section\n"
        "5.2): the launch of every flight (eq. 5) and the coefficient values at the RBF\n"
-       "centres (eq. 6) are fitted in turn; centres are added one at a time where the\n"
+       "centres (eq. 6) are fitted together; centres are added one at a time where the\n"
        "error is largest (greedy, Bickel et al. 2009) until the error stops falling.\n"
        "Progress goes to stderr. Writes the model (format pteromys-model/1, with a\n"
        "provenance object) and, with --json, the report (format pteromys-fit/1:\n"
@@ -187,8 +195,11 @@ const bool registered_fit = register_command(60,
        "  --launch-points M      fit each launch to the first M points (default 0 = all;\n"
        "                         the paper uses 10)\n"
        "  --fit-pitch-rate       also fit the pitch rate at the first point\n"
-       "  --min-improvement F    keep a new centre only if it lowers the RMSE by this\n"
-       "                         fraction (default 0.01)\n"
+       "  --stop RULE            bic (default): keep a new centre only if it lowers the\n"
+       "                         Bayesian information criterion, i.e. the error falls by more\n"
+       "                         than three more parameters would fit noise; none: always\n"
+       "                         go on to --max-centres (the paper's fixed count)\n"
+       "  --min-improvement F    also require the RMSE to fall by this fraction (default 0)\n"
        "  --rounds N             launch/coefficient alternations per centre count (default 3)\n"
        "  --iterations N         solver iterations per coefficient fit (default 12)\n"
        "  --candidates N         candidate centres scored per insertion (default 16)\n"

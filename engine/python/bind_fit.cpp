@@ -107,6 +107,12 @@ void bind_fit(py::module_& m) {
         o.launch.points = static_cast<int>(num("launch_points", o.launch.points));
         o.launch.fit_pitch_rate = flag("fit_pitch_rate", false);
         o.min_improvement = num("min_improvement", o.min_improvement);
+        if (kw.contains("stop")) {
+          const std::string stop = kw["stop"].cast<std::string>();
+          if (stop == "none") o.information_criterion = false;
+          else if (stop != "bic") throw InputError("stop must be 'bic' or 'none'");
+        }
+        if (!(o.min_improvement >= 0) || o.min_improvement >= 1) throw InputError("min_improvement must be in [0, 1)");
         o.max_rounds = static_cast<int>(num("rounds", o.max_rounds));
         o.max_iterations = static_cast<int>(num("iterations", o.max_iterations));
         o.candidates = static_cast<int>(num("candidates", o.candidates));

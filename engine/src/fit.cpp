@@ -264,6 +264,13 @@ class Fitter {
 
   int residual_count(std::size_t K) const { return 2 * points_ + 6 * static_cast<int>(K); }
 
+  /// Bayesian information criterion of a fit with K centres and RMS distance rmse.
+  double bic(double rmse, int K) const {
+    const double n = 2.0 * points_;
+    const double p = static_cast<double>(flights_.size()) * (5 + (lopt_.fit_pitch_rate ? 1 : 0)) + 3.0 * K;
+    return n * std::log(std::max(rmse * rmse * points_, 1e-300) / n) + p * std::log(n);
+  }
+
   void fill_penalties(const Eigen::VectorXd& u, const std::vector<Coefficients>& ref, Eigen::VectorXd& r) const {
     const double hi[3] = {o_.cd_max, o_.cl_max, o_.cm_max};
     const double lo[3] = {0.0, -o_.cl_max, -o_.cm_max};
@@ -674,6 +681,7 @@ FitResult Fitter::run() {
   FitStage s0;
   s0.centres = o_.start ? static_cast<int>(o_.start->centres().size()) : 0;
   s0.rmse_m = res.prior_rmse_m;
+  s0.bic = bic(s0.rmse_m, s0.centres);
   s0.seconds = since(t0_);
   s0.simulations = static_cast<int>(simulations_);
   if (!o_.start) res.history.push_back(s0);
@@ -702,14 +710,32 @@ FitResult Fitter::run() {
   if (!o_.start) st.added = cs[0];
   auto t_stage = Clock::now();
   long sims0 = simulations_;
+  const Eigen::VectorXd u0 = u;
+  const std::vector<LaunchParams> L0 = launches_;
+  const std::vector<double> lr0 = launch_rmse_;
   double rmse = fit_stage(u, cs, ref, st);
   st.rmse_m = rmse;
+  st.bic = bic(rmse, st.centres);
   st.seconds = since(t_stage);
   st.simulations = static_cast<int>(simulations_ - sims0);
+  // Without a start model the first centre is judged against the prior alone.
+  bool prior_only = false;
+  if (!o_.start && (!(rmse < res.prior_rmse_m) || (o_.information_criterion && !(st.bic < s0.bic)))) {
+    st.accepted = false;
+    prior_only = true;
+  }
   res.history.push_back(st);
-  report("stage", st.centres, 0, 0, rmse, std::to_string(cs.size()) + " centre(s): RMSE " + fmt(rmse) + " m");
+  report("stage", st.centres, 0, 0, rmse,
+         std::to_string(cs.size()) + " centre(s): RMSE " + fmt(rmse) + " m" +
+             (prior_only ? " (dropped: no better than the prior once its three values are paid for)" : ""));
 
   // Accepted state.
+  if (prior_only) {  // the model is the prior: one centre valued as the prior
+    u = u0;
+    launches_ = L0;
+    launch_rmse_ = lr0;
+    rmse = res.prior_rmse_m;
+  }
   std::vector<RbfCentre> best_cs = cs;
   std::vector<Coefficients> best_ref = ref;
   Eigen::VectorXd best_u = u;
@@ -717,8 +743,11 @@ FitResult Fitter::run() {
   std::vector<double> best_lr = launch_rmse_;
   double best_rmse = rmse;
   res.stop_reason = "reached the maximum number of centres (" + std::to_string(o_.max_centres) + ")";
+  if (prior_only)
+    res.stop_reason = "the error stopped falling: one centre does not fit the flights better than the prior by "
+                      "more than its three values fit noise (BIC); the model equals the prior";
 
-  while (static_cast<int>(best_cs.size()) < o_.max_centres) {
+  while (!prior_only && static_cast<int>(best_cs.size()) < o_.max_centres) {
     // Greedy insertion: candidates where the error is largest, scored by the
     // Gauss-Newton decrease their three values alone would give.
     const auto t_ins = Clock::now();
@@ -796,14 +825,22 @@ FitResult Fitter::run() {
     ns.rmse_m = rmse;
     ns.seconds = since(t_stage);
     ns.simulations = static_cast<int>(simulations_ - sims0);
-    ns.accepted = rmse < best_rmse * (1 - o_.min_improvement);
+    ns.bic = bic(rmse, K + 1);
+    const double best_bic = bic(best_rmse, K);
+    std::string why;
+    if (!(rmse < best_rmse)) why = "did not lower the RMSE";
+    else if (o_.information_criterion && !(ns.bic < best_bic))
+      why = "lowered the RMSE by " + fmt(100 * (1 - rmse / best_rmse), 2) +
+            " %, less than three more parameters gain on noise alone (BIC " + fmt(ns.bic, 6) + " >= " +
+            fmt(best_bic, 6) + ")";
+    else if (!(rmse < best_rmse * (1 - o_.min_improvement)))
+      why = "lowered the RMSE by less than " + fmt(100 * o_.min_improvement, 3) + " %";
+    ns.accepted = why.empty();
     res.history.push_back(ns);
     report("stage", K + 1, 0, 0, rmse,
-           std::to_string(K + 1) + " centres: RMSE " + fmt(rmse) + " m" +
-               (ns.accepted ? "" : " (less than " + fmt(100 * o_.min_improvement, 3) + " % better: dropped)"));
+           std::to_string(K + 1) + " centres: RMSE " + fmt(rmse) + " m" + (ns.accepted ? "" : " (dropped: it " + why + ")"));
     if (!ns.accepted) {
-      res.stop_reason = "the error stopped falling: centre " + std::to_string(K + 1) + " lowered the RMSE by less than " +
-                        fmt(100 * o_.min_improvement, 3) + " %";
+      res.stop_reason = "the error stopped falling: centre " + std::to_string(K + 1) + " " + why;
       break;
     }
     best_cs = cs;

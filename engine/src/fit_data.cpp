@@ -41,7 +41,7 @@ json fit_report_json(const FitResult& r, const FitOptions& o) {
   j["stop_reason"] = r.stop_reason;
   j["history"] = json::array();
   for (const auto& s : r.history) {
-    json h = {{"centres", s.centres},   {"rmse_m", s.rmse_m},         {"accepted", s.accepted},
+    json h = {{"centres", s.centres},   {"rmse_m", s.rmse_m},         {"accepted", s.accepted}, {"bic", s.bic},
               {"seconds", s.seconds},   {"iterations", s.iterations}, {"simulations", s.simulations}};
     if (s.has_added) {
       h["added"] = centre_json(s.added);
@@ -73,6 +73,7 @@ json fit_report_json(const FitResult& r, const FitOptions& o) {
   j["options"] = {{"max_centres", o.max_centres},
                   {"launch_points", o.launch.points},
                   {"fit_pitch_rate", o.launch.fit_pitch_rate},
+                  {"information_criterion", o.information_criterion},
                   {"min_improvement", o.min_improvement},
                   {"max_rounds", o.max_rounds},
                   {"max_iterations", o.max_iterations},

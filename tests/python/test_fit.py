@@ -214,7 +214,8 @@ def test_bad_datasets_are_rejected_with_a_message_and_no_output(tmp_path, case, 
 
 def test_bad_options_are_rejected_before_work(dataset, tmp_path):
     for args, words in ((["--max-centres", "0"], "--max-centres"), (["--launch-points", "2"], "--launch-points"),
-                        (["--robust", "-1"], "--robust"), (["--model", str(tmp_path / "none.json")], "none.json")):
+                        (["--robust", "-1"], "--robust"), (["--stop", "sometimes"], "--stop"),
+                        (["--model", str(tmp_path / "none.json")], "none.json")):
         r = run(["fit", dataset, "-o", tmp_path / "m.json"] + args)
         assert r.returncode == 2 and words in r.stderr, (args, r.stderr)
     r = run(["fit", dataset, "-o", tmp_path / "missing-dir" / "m.json"])

@@ -144,9 +144,16 @@ using FitCallback = std::function<void(const FitProgress&)>;
 
 struct FitOptions {
   int max_centres = 10;            ///< the paper ends with 10
-  /// Greedy stopping rule: a new centre is kept only when it lowers the RMSE
-  /// by at least this fraction; otherwise the fit stops with the previous model.
-  double min_improvement = 0.01;
+  /// Greedy stopping rule ("until the error stops falling"): a new centre is
+  /// kept only when it lowers the Bayesian information criterion
+  /// BIC = n ln(SSE / n) + p ln(n) (n residuals, p fitted parameters:
+  /// launches and values), i.e. when the squared error falls by more than
+  /// three more parameters would remove from pure noise, about 3 ln(n) / n;
+  /// otherwise the fit stops with the previous model. The threshold scales
+  /// with the amount of data, unlike a fixed fraction.
+  bool information_criterion = true;
+  /// An extra, fixed threshold: the RMSE must also fall by this fraction (0 = off).
+  double min_improvement = 0.0;
   int max_rounds = 3;              ///< launch/coefficient alternations per number of centres
   double round_tolerance = 0.002;  ///< alternation stops when the RMSE falls by less than this fraction
   int max_iterations = 12;         ///< Levenberg-Marquardt iterations per coefficient fit
@@ -194,6 +201,7 @@ struct FlightFitResult {
 struct FitStage {
   int centres = 0;          ///< 0 = the prior alone (launches fitted)
   double rmse_m = 0;
+  double bic = 0;           ///< n ln(SSE / n) + p ln(n) (see FitOptions::information_criterion)
   bool accepted = true;     ///< false: the new centre did not lower the error enough and was dropped
   double seconds = 0;       ///< wall time of the stage
   int iterations = 0;       ///< Levenberg-Marquardt iterations, all rounds

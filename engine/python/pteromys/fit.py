@@ -18,14 +18,16 @@ __all__ = ["fit", "fit_launch", "simulate_track", "predict_flights", "synthetic_
 
 
 def fit(dataset, max_centres=10, model=None, use_prior=True, launch_points=0, fit_pitch_rate=False,
-        min_improvement=0.01, rounds=3, iterations=12, candidates=16, robust_m=0.3, regularisation_m=0.01,
+        stop="bic", min_improvement=0.0, rounds=3, iterations=12, candidates=16, robust_m=0.3, regularisation_m=0.01,
         threads=0, dz=0.005, dt=0.002, progress=None):
     """Fit an RBF coefficient model to the flights of a dataset.
 
     ``model``: an RBF model (or path) to continue from, or a flat-plate model
     used as the prior (default: the built-in flat-plate element).
     ``launch_points``: M of eq. 5 (0 = all points, the default; the paper
-    uses 10). ``progress(dict)`` is called after every solver iteration with
+    uses 10). ``stop``: "bic" (keep a centre only if it lowers the Bayesian
+    information criterion) or "none" (go on to ``max_centres``);
+    ``min_improvement``: an extra relative RMSE threshold. ``progress(dict)`` is called after every solver iteration with
     keys stage, centres, round, iteration, rmse_m, elapsed_s, message.
 
     Returns ``(model, report)``: a :class:`pteromys.Model` and the report dict
@@ -33,7 +35,7 @@ def fit(dataset, max_centres=10, model=None, use_prior=True, launch_points=0, fi
     The engine runs without the GIL; ``progress`` is called with it.
     """
     opts = dict(max_centres=max_centres, launch_points=launch_points, fit_pitch_rate=bool(fit_pitch_rate),
-                min_improvement=min_improvement, rounds=rounds, iterations=iterations, candidates=candidates,
+                stop=str(stop), min_improvement=min_improvement, rounds=rounds, iterations=iterations, candidates=candidates,
                 robust_m=robust_m, regularisation_m=regularisation_m, threads=threads, dz=dz, dt=dt,
                 use_prior=bool(use_prior), model=model)
     m, text = _core._fit(str(dataset), opts, progress)
