@@ -91,9 +91,24 @@ try:
     pump()
     R["task_dialog"] = Gui.Control.activeDialog()
     screen(os.path.join(SHOTS, "task.png"))
-    Gui.Control.closeDialog()
     Gui.ActiveDocument.resetEdit()
     pump()
+    # the task panel writes on OK and undoes on Cancel
+    from pteromys_freecad.gui import task_panel
+    p = task_panel.GliderTaskPanel(g)
+    Gui.Control.showDialog(p)
+    p.ballast.setValue(4.5)
+    p.accept()
+    pump()
+    R["panel_ok"] = [g.BallastGrams, g.Status]
+    p = task_panel.GliderTaskPanel(g)
+    Gui.Control.showDialog(p)
+    p.ballast.setValue(9.0)
+    p.apply()
+    R["panel_applied"] = g.BallastGrams
+    p.reject()
+    pump()
+    R["panel_cancel"] = g.BallastGrams
     # a bad edit: the tail sketch opened; FreeCAD stays up and says why
     tail = [w for w in g.Wings if w.WingName == "tail"][0]
     doc.openTransaction("break the tail")
@@ -201,6 +216,8 @@ def test_new_glider_and_flight_view_follow_recompute(gui):
     assert gui["plot_distances_after"] == pytest.approx(gui["glider_distances_after"], rel=1e-12)
     assert gui["plot_distances_after"] != pytest.approx(gui["plot_distances_before"], rel=1e-6)
     assert gui["task_dialog"]
+    assert gui["panel_ok"][0] == 4.5 and not gui["panel_ok"][1].startswith("Input error")
+    assert gui["panel_applied"] == 9.0 and gui["panel_cancel"] == 4.5
 
 
 def test_bad_edit_in_the_gui_is_civil(gui):

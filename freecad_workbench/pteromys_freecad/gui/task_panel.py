@@ -26,6 +26,7 @@ class GliderTaskPanel:
     def __init__(self, obj):
         self.obj = obj
         self.doc = obj.Document
+        self.done = False
         self.doc.openTransaction("Edit glider")
         self.form = QtWidgets.QWidget()
         self.form.setWindowTitle("Pteromys glider")
@@ -165,11 +166,24 @@ class GliderTaskPanel:
     def accept(self):
         self.apply()
         self.doc.commitTransaction()
-        Gui.ActiveDocument.resetEdit()
+        self.done = True
+        self._close()
         return True
 
     def reject(self):
-        self.doc.abortTransaction()
-        self.doc.recompute()
-        Gui.ActiveDocument.resetEdit()
+        self.abort()
+        self._close()
         return True
+
+    def abort(self):
+        """Undo what the panel changed (Cancel, or the dialog closed from elsewhere)."""
+        if not self.done:
+            self.done = True
+            self.doc.abortTransaction()
+            self.doc.recompute()
+
+    def _close(self):
+        Gui.Control.closeDialog()
+        gd = Gui.getDocument(self.doc.Name)
+        if gd is not None and gd.getInEdit() is not None:
+            gd.resetEdit()

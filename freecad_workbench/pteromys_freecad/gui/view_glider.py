@@ -77,12 +77,16 @@ class ViewProviderGlider:
         if mode != 0:
             return None
         from . import task_panel
-        Gui.Control.showDialog(task_panel.GliderTaskPanel(vobj.Object))
+        self._panel = task_panel.GliderTaskPanel(vobj.Object)
+        Gui.Control.showDialog(self._panel)
         return True
 
     def unsetEdit(self, vobj, mode=0):
         if mode != 0:
             return None
+        panel, self._panel = getattr(self, "_panel", None), None
+        if panel is not None and not panel.done:
+            panel.abort()          # closed without OK: undo the panel's edits
         Gui.Control.closeDialog()
         return True
 
