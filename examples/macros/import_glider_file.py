@@ -22,21 +22,33 @@ OUT = os.path.abspath(os.environ.get("PTEROMYS_MACRO_OUT") or "pteromys_macro_ou
 os.makedirs(OUT, exist_ok=True)
 src = os.environ.get("PTEROMYS_MACRO_GLIDER") or os.path.join(HERE, "..", "gliders", "tapered.glider.json")
 
-doc = App.newDocument("Imported")
-glider = pf.import_glider_file(src, doc=doc)   # automatic optimisation is off: the file's mounts
-before = pf.results(glider)
-print("as in the file:  flyable %s, distances %s" % (before["flyable"], ["%.1f" % d for d in before["launch_distances_m"]]))
-with open(os.path.join(OUT, "imported_as_file.json"), "w") as f:
-    json.dump({k: v for k, v in before.items() if k != "report"}, f, indent=1)
 
-glider.AutoOptimise = True
-doc.recompute()
-after = pf.results(glider)
-print("optimised:       flyable %s, distances %s" % (after["flyable"], ["%.1f" % d for d in after["launch_distances_m"]]))
-if not after["problems"]:
-    pf.export_glider_file(glider, os.path.join(OUT, "imported_optimised.glider.json"))
-with open(os.path.join(OUT, "imported_compare.json"), "w") as f:
-    json.dump({"source": os.path.abspath(src), "before": {k: v for k, v in before.items() if k != "report"},
-               "after": {k: v for k, v in after.items() if k != "report"}}, f, indent=1)
-doc.saveAs(os.path.join(OUT, "imported.FCStd"))
-print("wrote", OUT)
+def main():
+    doc = App.newDocument("Imported")
+    glider = pf.import_glider_file(src, doc=doc)   # automatic optimisation is off: the file's mounts
+    before = pf.results(glider)
+    print("as in the file:  flyable %s, distances %s" % (before["flyable"], ["%.1f" % d for d in before["launch_distances_m"]]))
+    with open(os.path.join(OUT, "imported_as_file.json"), "w") as f:
+        json.dump({k: v for k, v in before.items() if k != "report"}, f, indent=1)
+
+    glider.AutoOptimise = True
+    doc.recompute()
+    after = pf.results(glider)
+    print("optimised:       flyable %s, distances %s" % (after["flyable"], ["%.1f" % d for d in after["launch_distances_m"]]))
+    if not after["problems"]:
+        pf.export_glider_file(glider, os.path.join(OUT, "imported_optimised.glider.json"))
+    with open(os.path.join(OUT, "imported_compare.json"), "w") as f:
+        json.dump({"source": os.path.abspath(src), "before": {k: v for k, v in before.items() if k != "report"},
+                   "after": {k: v for k, v in after.items() if k != "report"}}, f, indent=1)
+    doc.saveAs(os.path.join(OUT, "imported.FCStd"))
+    print("wrote", OUT)
+
+
+try:
+    main()
+except Exception:
+    if App.GuiUp:   # in the GUI, show the error and keep FreeCAD running
+        raise
+    import traceback
+    traceback.print_exc()
+    sys.exit(1)     # headless: a failing macro fails its command line (freecadcmd exits 0 otherwise)

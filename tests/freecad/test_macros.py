@@ -24,6 +24,7 @@ def run_macro(fc_home, tmp_path, name, **env):
     p = subprocess.run([freecadcmd(), os.path.join(EXAMPLES, "macros", name)], capture_output=True, text=True,
                        timeout=900, env=e, cwd=str(tmp_path))
     text = p.stdout + p.stderr
+    assert p.returncode == 0, text[-3000:]
     assert "Exception while processing file" not in text and "Traceback" not in text, text[-3000:]
     return out, text
 
@@ -92,3 +93,12 @@ def test_export_parts(fc_home, tmp_path):
     assert p.returncode == 0, p.stderr
     res = json.load(open(out / "Dart_results.json"))["results"]
     assert json.load(open(rep))["flyable"] == res["flyable"]
+
+
+def test_a_failing_macro_fails_its_command_line(fc_home, tmp_path):
+    """freecadcmd itself exits 0 after an exception; the macros exit 1 headless so that scripts notice."""
+    e = fc_env(fc_home, PTEROMYS_MACRO_OUT=tmp_path / "out", PTEROMYS_MACRO_DOC=tmp_path / "missing.FCStd")
+    p = subprocess.run([freecadcmd(), os.path.join(EXAMPLES, "macros", "export_parts.py")], capture_output=True,
+                       text=True, timeout=300, env=e, cwd=str(tmp_path))
+    assert p.returncode == 1, (p.returncode, p.stdout[-2000:], p.stderr[-2000:])
+    assert "missing.FCStd" in p.stdout + p.stderr
