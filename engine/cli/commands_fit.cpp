@@ -202,7 +202,7 @@ const bool registered_fit = register_command(60,
        "  --min-improvement F    also require the RMSE to fall by this fraction (default 0)\n"
        "  --rounds N             launch/coefficient alternations per centre count (default 3)\n"
        "  --iterations N         solver iterations per coefficient fit (default 12)\n"
-       "  --candidates N         candidate centres scored per insertion (default 16)\n"
+       "  --candidates N         candidate centres scored per insertion (default 24)\n"
        "  --robust M             Huber threshold on a point's distance [m] (default 0.3; 0 = off)\n"
        "  --regularisation M     pull of the values toward the prior [m] (default 0.01)\n"
        "  --holdout DATASET.json predict these flights with the fitted model, the flat-plate\n"

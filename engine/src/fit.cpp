@@ -512,12 +512,13 @@ class Fitter {
 
   // ------------------------------------------------------ insertion
   RbfCentre element_mean(const std::vector<Track>& tracks, int flight_filter = -1, int point = -1,
-                         int wing = -1) const {
+                         int wing = -1, int glider_filter = -1) const {
     // Area-weighted mean of (|alpha|, Re, xi_l, xi_t) over wing elements, at
-    // the tracked times of the selected flights/point/wing.
+    // the tracked times of the selected flights/point/wing/glider.
     double w = 0, a = 0, re = 0, xl = 0, xt = 0;
     for (std::size_t fi = 0; fi < flights_.size(); ++fi) {
       if (flight_filter >= 0 && static_cast<int>(fi) != flight_filter) continue;
+      if (glider_filter >= 0 && flights_[fi].glider != glider_filter) continue;
       const auto& g = gliders_[flights_[fi].glider];
       for (std::size_t j = 0; j < tracks[fi].states.size(); ++j) {
         if (point >= 0 && static_cast<int>(j) != point) continue;
@@ -553,22 +554,35 @@ class Fitter {
   }
 
   std::vector<RbfCentre> candidates(const std::vector<Track>& tracks, const std::vector<RbfCentre>& cs) const {
-    // Flights by their largest point error; at the worst point, and a third
-    // and two thirds of the way to it, each wing gives a candidate.
+    // Two sources, taken in turn: (a) "where the largest error occurs" (the
+    // paper): flights by their largest point error; at the worst point, and a
+    // third and two thirds of the way to it, each wing's mean element; (b)
+    // gliders by their RMS error (with tracking noise a single worst point is
+    // mostly noise; a glider's error over all its flights is mostly model
+    // error): each wing's mean element over all the glider's tracked states.
     struct Worst {
       double err;
       int flight, point;
     };
     std::vector<Worst> worst;
+    std::vector<double> gsum(gliders_.size(), 0.0);
+    std::vector<int> gn(gliders_.size(), 0);
     for (std::size_t fi = 0; fi < flights_.size(); ++fi) {
       Worst w{-1, static_cast<int>(fi), 0};
       for (std::size_t j = 0; j < flights_[fi].q.size(); ++j) {
         const double e = norm(tracks[fi].positions[j] - flights_[fi].q[j]);
         if (e > w.err) w = {e, static_cast<int>(fi), static_cast<int>(j)};
+        gsum[flights_[fi].glider] += e * e;
+        ++gn[flights_[fi].glider];
       }
       worst.push_back(w);
     }
     std::sort(worst.begin(), worst.end(), [](const Worst& a, const Worst& b) { return a.err > b.err; });
+    std::vector<int> gorder(gliders_.size());
+    for (std::size_t i = 0; i < gorder.size(); ++i) gorder[i] = static_cast<int>(i);
+    std::sort(gorder.begin(), gorder.end(), [&](int a, int b) {
+      return gsum[a] / std::max(gn[a], 1) > gsum[b] / std::max(gn[b], 1);
+    });
     std::vector<RbfCentre> out;
     auto fresh = [&](const RbfCentre& c) {
       for (const auto& e : cs)
@@ -577,14 +591,31 @@ class Fitter {
         if (scaled_dist2(c, e) < 0.25) return false;
       return c.re > 0;
     };
+    std::vector<RbfCentre> from_points, from_gliders;
     for (const auto& w : worst) {
       const auto& g = gliders_[flights_[w.flight].glider];
       for (int p : {w.point, (2 * w.point) / 3, w.point / 3})
-        for (std::size_t wj = 0; wj < g.wings.size(); ++wj) {
-          if (static_cast<int>(out.size()) >= o_.candidates) return out;
-          const RbfCentre c = element_mean(tracks, w.flight, p, static_cast<int>(wj));
-          if (fresh(c)) out.push_back(c);
+        for (std::size_t wj = 0; wj < g.wings.size(); ++wj)
+          from_points.push_back(element_mean(tracks, w.flight, p, static_cast<int>(wj)));
+      if (static_cast<int>(from_points.size()) > 4 * o_.candidates) break;
+    }
+    for (int gi : gorder)
+      for (std::size_t wj = 0; wj < gliders_[gi].wings.size(); ++wj)
+        from_gliders.push_back(element_mean(tracks, -1, -1, static_cast<int>(wj), gi));
+    std::size_t ia = 0, ib = 0;
+    while (static_cast<int>(out.size()) < o_.candidates && (ia < from_points.size() || ib < from_gliders.size())) {
+      for (int k = 0; k < 2; ++k) {
+        auto& src = k == 0 ? from_points : from_gliders;
+        auto& i = k == 0 ? ia : ib;
+        while (i < src.size()) {
+          const RbfCentre c = src[i++];
+          if (fresh(c)) {
+            out.push_back(c);
+            break;
+          }
         }
+        if (static_cast<int>(out.size()) >= o_.candidates) break;
+      }
     }
     return out;
   }

@@ -157,7 +157,7 @@ struct FitOptions {
   int max_rounds = 3;              ///< launch/coefficient alternations per number of centres
   double round_tolerance = 0.002;  ///< alternation stops when the RMSE falls by less than this fraction
   int max_iterations = 12;         ///< Levenberg-Marquardt iterations per coefficient fit
-  int candidates = 16;             ///< candidate centres scored at each insertion
+  int candidates = 24;             ///< candidate centres scored at each insertion
   /// Weight of the pull of each centre value toward the prior's value, as the
   /// position error [m] one scale unit (cd 0.02, cl 0.1, cm 0.02) of
   /// deviation is worth. Keeps values that no flight constrains at the prior.

@@ -18,7 +18,7 @@ __all__ = ["fit", "fit_launch", "simulate_track", "predict_flights", "synthetic_
 
 
 def fit(dataset, max_centres=10, model=None, use_prior=True, launch_points=0, fit_pitch_rate=False,
-        stop="bic", min_improvement=0.0, rounds=3, iterations=12, candidates=16, robust_m=0.3, regularisation_m=0.01,
+        stop="bic", min_improvement=0.0, rounds=3, iterations=12, candidates=24, robust_m=0.3, regularisation_m=0.01,
         threads=0, dz=0.005, dt=0.002, progress=None):
     """Fit an RBF coefficient model to the flights of a dataset.
 
