@@ -285,13 +285,16 @@ def main():
 
     # 1. Flights.
     data = {}
-    for name, folder, seed, noise in (("train", "training", 1, NOISE), ("heldout", "heldout", 2, NOISE),
-                                      ("train_exact", "training", 1, EXACT), ("heldout_exact", "heldout", 2, EXACT)):
+    for name, folder, seed, noise, per in (("train", "training", 1, NOISE, 6), ("heldout", "heldout", 2, NOISE, 6),
+                                           ("train_exact", "training", 1, EXACT, 6),
+                                           ("heldout_exact", "heldout", 2, EXACT, 6),
+                                           ("more", "training", 11, NOISE, 24)):
         d = os.path.join(a.out, name)
         if os.path.exists(d):
             shutil.rmtree(d)
         cmd = [exe, "generate", os.path.join(ROOT, "examples", folder), "-o", d, "--seed", str(seed),
                "--noise-m", str(noise), "--threads", a.threads] + GENERATE
+        cmd[cmd.index("--flights-per-glider") + 1] = str(per)
         summary.setdefault("generate_s", {})[name] = run(cmd)
         data[name] = os.path.join(d, "dataset.json")
         summary.setdefault("generate_commands", {})[name] = "pteromys " + " ".join(cmd[1:]).replace(ROOT + "/", "")
@@ -308,7 +311,8 @@ def main():
     # 2. Fits.
     fits = {"default": (data["train"], []), "all10": (data["train"], ["--stop", "none"]),
             "exact": (data["train_exact"], ["--stop", "none"]),
-            "paper": (data["train"], ["--launch-points", "10", "--stop", "none"])}
+            "paper": (data["train"], ["--launch-points", "10", "--stop", "none"]),
+            "more": (data["more"], [])}
     reports = {}
     for key, (dset, extra) in fits.items():
         model = os.path.join(a.out, f"{key}.model.json")
@@ -333,7 +337,22 @@ def main():
             "max_alpha_deg": max(f["max_alpha_deg"] for f in rep["per_flight"]),
         }
 
-    # 4. Plots.
+    # 4. Against the truth: the same held-out (and training) launches recorded
+    # with 0.1 mm noise, so that the error is the model's, not the camera's.
+    log("predictions against noise-free flights")
+    models = {"flat_plate": pteromys.flat_plate_model(), "ballistic": "ballistic"}
+    for key in fits:
+        models[key] = os.path.join(a.out, f"{key}.model.json")
+    truth = {}
+    for key, m in models.items():
+        h10 = prediction_sets(data["heldout_exact"], {key: m}, 10)[key]
+        hall = prediction_sets(data["heldout_exact"], {key: m}, 0)[key]
+        tall = prediction_sets(data["train_exact"], {key: m}, 0)[key]
+        truth[key] = {"heldout_after_10_m": rmse(h10, after=True), "heldout_all_points_m": rmse(hall),
+                      "train_all_points_m": rmse(tall), "heldout_by_glider_after_10_m": by_glider(h10, after=True)}
+    summary["truth"] = truth
+
+    # 5. Plots.
     log("plots")
     glider_planform_plot(os.path.join(a.img, "fit_gliders.png"))
     error_vs_centres_plot({
@@ -343,30 +362,27 @@ def main():
         "exact": ("0.1 mm noise (model error alone), to 10 centres", reports["exact"]),
     }, os.path.join(a.img, "fit_error_vs_centres.png"))
     t01 = load(os.path.join(ROOT, "examples", "training", "t01-rectangular.glider.json"))
-    coefficient_plot([("fitted (shipped, +-5 cm data)", os.path.join(a.out, "default.model.json"), "#d62728", "-"),
-                      ("fitted to exact data, 10 centres", os.path.join(a.out, "exact.model.json"), "#1f77b4", "--")],
+    coefficient_plot([("fitted (shipped, +-5 cm data)", models["default"], "#d62728", "-"),
+                      ("fitted to exact data, 10 centres", models["exact"], "#1f77b4", "--")],
                      os.path.join(a.img, "fit_coefficients.png"), t01["wings"][0]["outline_m"])
-    tables = []
-    for label, hold, model_key in (("+-5 cm noise, shipped model", data["heldout"], "default"),
-                                   ("0.1 mm noise, model fitted to exact data", data["heldout_exact"], "exact")):
-        models = {"fitted": os.path.join(a.out, f"{model_key}.model.json"), "flat_plate": pteromys.flat_plate_model(),
-                  "ballistic": "ballistic"}
-        sets = prediction_sets(hold, models, 10)
-        tables.append((label, {k: by_glider(v, after=True) for k, v in sets.items()}))
-        summary.setdefault("heldout_by_glider_after_10", {})[model_key] = tables[-1][1]
-        stem = "fit_heldout_trajectories" + ("" if model_key == "default" else "_exact")
-        trajectory_plot(sets, os.path.join(a.img, stem + ".png"),
-                        f"Held-out gliders, {label}: launch fitted to the first 10 points (open), the rest predicted "
-                        "(paper Fig. 13)")
-    heldout_bar_plot(tables, os.path.join(a.img, "fit_heldout_errors.png"))
-    train_sets = prediction_sets(data["train_exact"], {"fitted": os.path.join(a.out, "exact.model.json"),
-                                                        "flat_plate": pteromys.flat_plate_model(),
-                                                        "ballistic": "ballistic"}, 0)
+    three = {"fitted": models["default"], "flat_plate": models["flat_plate"], "ballistic": "ballistic"}
+    noisy_sets = prediction_sets(data["heldout"], three, 10)
+    exact_sets = prediction_sets(data["heldout_exact"], three, 10)
+    trajectory_plot(noisy_sets, os.path.join(a.img, "fit_heldout_trajectories.png"),
+                    "Held-out gliders as tracked (+-5 cm): launch fitted to the first 10 points (open), the rest "
+                    "predicted by the shipped model, the flat-plate element, ballistic motion (paper Fig. 13)")
+    trajectory_plot(exact_sets, os.path.join(a.img, "fit_heldout_trajectories_exact.png"),
+                    "The same held-out launches without tracking noise (0.1 mm): the models' own error")
+    heldout_bar_plot([("as tracked (+-5 cm noise)", {k: by_glider(v, after=True) for k, v in noisy_sets.items()}),
+                      ("without noise (0.1 mm): the model error", {k: by_glider(v, after=True)
+                                                                    for k, v in exact_sets.items()})],
+                     os.path.join(a.img, "fit_heldout_errors.png"))
+    train_sets = prediction_sets(data["train_exact"], three, 0)
     keep = {"t01-rectangular", "t08-swept-45", "t10-forward-swept-30", "t11-delta"}
     train_sets = {k: [p for p in v if p["glider"] in keep] for k, v in train_sets.items()}
     trajectory_plot(train_sets, os.path.join(a.img, "fit_training_flights.png"),
-                    "Training flights (exact data): launch fitted to all points; fitted model against the flat-plate "
-                    "element (paper Fig. 12)", pick=2)
+                    "Training flights without noise: launch fitted to all points; the shipped model against the "
+                    "flat-plate element (paper Fig. 12)", pick=2)
 
     summary["total_s"] = time.time() - t0
     with open(os.path.join(a.out, "summary.json"), "w") as f:
@@ -393,13 +409,14 @@ def main():
         log(f"shipped {path}")
     print(json.dumps({k: summary[k] for k in ("commit", "train_flights", "train_points", "fit_wall_s", "total_s")},
                      indent=1))
-    for key, f in summary["fits"].items():
-        print(f"{key:8s} centres {f['centres']:2d}  fit {100 * f['fit_rmse_m']:.2f} cm  prior {100 * f['prior_rmse_m']:.2f} cm"
-              f"  held-out (first 10 / after): fitted {100 * f['holdout_first_10']['fitted']['rmse_after_m']:.2f}"
-              f"  flat {100 * f['holdout_first_10']['flat_plate']['rmse_after_m']:.2f}"
-              f"  ballistic {100 * f['holdout_first_10']['ballistic']['rmse_after_m']:.2f} cm;"
-              f" (all points) fitted {100 * f['holdout_all_points']['fitted']['rmse_m']:.2f}"
-              f" flat {100 * f['holdout_all_points']['flat_plate']['rmse_m']:.2f} cm; {f['total_s']:.0f} s")
+    print("fit      centres  fit RMSE  prior | noise-free flights: held-out after 10  held-out all  training all [cm]")
+    for key in ["flat_plate", "ballistic"] + list(fits):
+        t = truth[key]
+        f = summary["fits"].get(key)
+        head = (f"{key:10s} {f['centres']:5d}  {100 * f['fit_rmse_m']:7.2f}  {100 * f['prior_rmse_m']:6.2f}" if f
+                else f"{key:10s} {'':5s}  {'':7s}  {'':6s}")
+        print(f"{head} | {100 * t['heldout_after_10_m']:8.2f}  {100 * t['heldout_all_points_m']:12.2f}  "
+              f"{100 * t['train_all_points_m']:12.2f}")
 
 
 if __name__ == "__main__":
