@@ -5,8 +5,6 @@
 // six launches <= 1 ms (medians). Run: build/bench/bench_core
 #include <benchmark/benchmark.h>
 
-#include <dirent.h>
-
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -20,17 +18,7 @@ using namespace pteromys;
 namespace {
 
 std::vector<std::string> examples() {
-  std::vector<std::string> out;
-  const std::string dir = std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders";
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") out.push_back(dir + "/" + n);
-    }
-    closedir(d);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
+  return glider_files_in(std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders");
 }
 
 std::string short_name(const std::string& p) {

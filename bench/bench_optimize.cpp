@@ -8,8 +8,6 @@
 //     relative to the best any algorithm found, evaluations and time, including
 //     the paper's steepest descent with forward differences.
 // Run: build/bench/bench_optimize
-#include <dirent.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -26,17 +24,7 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 std::vector<std::string> examples() {
-  std::vector<std::string> out;
-  const std::string dir = std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders";
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") out.push_back(dir + "/" + n);
-    }
-    closedir(d);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
+  return glider_files_in(std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders");
 }
 
 double median(std::vector<double> v) {

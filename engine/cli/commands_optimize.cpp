@@ -22,7 +22,7 @@ std::vector<std::string> split_list(const std::string& s) {
 int run_optimize(const std::vector<std::string>& argv) {
   auto valued = aero_valued_options();
   valued.insert({"-o", "--json", "--csv", "--lock", "--algorithm", "--max-evaluations", "--w1", "--w2",
-                 "--speed-range", "--alpha-range", "--angle-range", "--min-overlap", "--w4", "--min-static-margin"});
+                 "--speed-range", "--alpha-range", "--angle-range", "--min-overlap", "--w4", "--min-static-margin", "--min-wing-gap-mm"});
   const Args a = parse_args(argv, valued, {"--ballast", "--quiet"});
   if (!a.has("-o")) throw InputError("missing -o OUT.glider.json (see --help)");
   check_writable(a.get("-o"), "glider");
@@ -42,6 +42,7 @@ int run_optimize(const std::vector<std::string>& argv) {
   opt.w4 = a.number("--w4", opt.w4);
   opt.min_static_margin = a.number("--min-static-margin", opt.min_static_margin);
   opt.min_overlap_fraction = a.number("--min-overlap", opt.min_overlap_fraction);
+  opt.min_wing_gap_m = a.number("--min-wing-gap-mm", 1000 * opt.min_wing_gap_m) / 1000;
   if (!(opt.min_overlap_fraction >= 0 && opt.min_overlap_fraction <= 1))
     throw InputError("--min-overlap must be a fraction between 0 and 1");
   auto range = [&](const char* key, double& lo, double& hi, double scale) {
@@ -113,6 +114,8 @@ const bool registered = register_command(30, {"optimize", 0,
     "  --alpha-range LO,HI    Omega's angles of attack [deg] (default -10,10)\n"
     "  --angle-range LO,HI    bounds of the mounting angles [deg] (default -10,15)\n"
     "  --min-overlap F        fraction of each root chord kept inside the fuselage (default 0.6)\n"
+    "  --min-wing-gap-mm G    gap kept between consecutive wings' root chords, front to back\n"
+    "                         in the drawn order (default 10 mm)\n"
     "  --quiet                no summary on stdout\n" +
         std::string(kAeroOptionsHelp),
     run_optimize});

@@ -62,7 +62,7 @@ void bind_optimize(py::module_& m) {
       [](const py::object& go, const py::object& mo, std::vector<std::string> locks, bool optimise_ballast,
          double height, std::shared_ptr<OptimizeState> warm, const std::string& algorithm, int max_evaluations,
          py::object speed_range, py::object alpha_range_deg, py::object angle_range_deg, double w1, double w2,
-         double min_overlap, double w4, double min_static_margin, double dz) {
+         double min_overlap, double w4, double min_static_margin, double min_wing_gap_mm, double dz) {
         const Glider g = to_glider(go);
         validate(g);
         const ModelPtr model = to_model(mo);
@@ -77,6 +77,7 @@ void bind_optimize(py::module_& m) {
         opt.w2 = w2;
         opt.min_overlap_fraction = min_overlap;
         opt.w4 = w4;
+        opt.min_wing_gap_m = min_wing_gap_mm / 1000;
         opt.min_static_margin = min_static_margin;
         if (!speed_range.is_none()) {
           auto p = speed_range.cast<std::pair<double, double>>();
@@ -107,7 +108,7 @@ void bind_optimize(py::module_& m) {
       py::arg("algorithm") = "bobyqa", py::arg("max_evaluations") = 3000, py::arg("speed_range") = py::none(),
       py::arg("alpha_range_deg") = py::none(), py::arg("angle_range_deg") = py::none(), py::arg("w1") = 100.0,
       py::arg("w2") = 1.0, py::arg("min_overlap") = 0.6, py::arg("w4") = 1.0,
-      py::arg("min_static_margin") = 0.05, py::arg("dz") = 0.005,
+      py::arg("min_static_margin") = 0.05, py::arg("min_wing_gap_mm") = 10.0, py::arg("dz") = 0.005,
       "Adjust mounting angles and positions (paper section 6). Returns a dict: 'glider' (glider dict\n"
       "with the new mounts), 'report' (report dict), 'flights' (six (n, 9) arrays), 'cost' and\n"
       "'cost_start' ({c1, c2, c3, c4, total}); w4 = 0 gives the paper's cost exactly, 'variables', 'evaluations', 'seconds', 'algorithm',\n"

@@ -1,18 +1,13 @@
 #include "pteromys/analysis.hpp"
+#include "pteromys/text.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace pteromys {
-namespace {
 
-std::string fmt(double v, int prec = 3) {
-  std::ostringstream s;
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
+namespace {
 
 // Range of glider angles of attack for which every wing stays inside the
 // model's valid range.
@@ -28,7 +23,7 @@ std::pair<double, double> valid_gamma_range(const MountedGlider& g) {
 }
 
 std::string launch_name(const Launch& l) {
-  return "the launch at " + fmt(l.speed) + " m/s, " + fmt(l.climb_deg) + " deg up";
+  return "the launch at " + fmt_number(l.speed) + " m/s, " + fmt_number(l.climb_deg) + " deg up";
 }
 
 }  // namespace
@@ -117,7 +112,7 @@ Flyability analyse(const MountedGlider& g, const std::vector<std::string>& names
     const auto& el = g.aero().elements(j);
     for (const auto& [z0, z1] : el.multiple_ranges)
       r.warnings.push_back("wing '" + (j < names.size() ? names[j] : std::to_string(j)) +
-                           "': between z = " + fmt(z0) + " and " + fmt(z1) +
+                           "': between z = " + fmt_number(z0) + " and " + fmt_number(z1) +
                            " m one streamline crosses the planform more than once; the "
                            "wing-element model ignores the interference of such elements "
                            "(paper section 8), so results there are less reliable");
@@ -181,16 +176,16 @@ Flyability analyse(const MountedGlider& g, const std::vector<std::string>& names
     if (std::isfinite(r.neutral_point_x) && r.reference_chord > 0)
       r.static_margin = (r.mass.cg.x - r.neutral_point_x) / r.reference_chord;
     if (std::isfinite(r.static_margin) && r.static_margin < 0.03)
-      r.warnings.push_back("the static margin is only " + fmt(100 * r.static_margin, 2) +
+      r.warnings.push_back("the static margin is only " + fmt_number(100 * r.static_margin, 2) +
                            " % of the main chord: the glider is nearly neutral in pitch and small building "
                            "errors may make it unstable; move the centre of gravity forward or enlarge the tail");
     if (r.glide.speed > opt.max_trim_speed)
       r.reasons.push_back("the wings are too small for the weight: a steady glide needs " +
-                          fmt(r.glide.speed) + " m/s, more than a hand launch gives (" +
-                          fmt(opt.max_trim_speed) + " m/s); enlarge the wings or lighten the glider");
+                          fmt_number(r.glide.speed) + " m/s, more than a hand launch gives (" +
+                          fmt_number(opt.max_trim_speed) + " m/s); enlarge the wings or lighten the glider");
     if (r.glide.ratio < opt.min_glide_ratio)
       r.reasons.push_back("the glider does not glide: lift/drag in the steady glide is only " +
-                          fmt(r.glide.ratio) + " (needs at least " + fmt(opt.min_glide_ratio) +
+                          fmt_number(r.glide.ratio) + " (needs at least " + fmt_number(opt.min_glide_ratio) +
                           "); raise the wings' angles or reduce drag");
   }
 

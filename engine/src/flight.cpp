@@ -1,10 +1,12 @@
 #include "pteromys/flight.hpp"
+#include "pteromys/text.hpp"
 
 #include <cmath>
 #include <sstream>
 #include <utility>
 
 namespace pteromys {
+
 namespace {
 
 inline double wrap(double a) {
@@ -57,13 +59,6 @@ struct Integrand {
     return {{q[0], q[1]}, q[2]};
   }
 };
-
-std::string fmt(double v, int prec = 3) {
-  std::ostringstream s;
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
 
 }  // namespace
 
@@ -194,7 +189,7 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
     if (!finite) {
       out.stable = false;
       out.end = FlightEnd::Unstable;
-      out.reason = "the simulation diverged (non-finite state) at t = " + fmt(n.t) + " s";
+      out.reason = "the simulation diverged (non-finite state) at t = " + fmt_number(n.t) + " s";
       break;
     }
     FlightState air = n;
@@ -220,8 +215,8 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
     if (am > limit) {
       out.stable = false;
       out.end = FlightEnd::Unstable;
-      out.reason = "angle of attack reached " + fmt(rad2deg(am), 3) + " deg at t = " + fmt(s.t) +
-                   " s, outside the model's range of +-" + fmt(rad2deg(limit), 3) +
+      out.reason = "angle of attack reached " + fmt_number(rad2deg(am), 3) + " deg at t = " + fmt_number(s.t) +
+                   " s, outside the model's range of +-" + fmt_number(rad2deg(limit), 3) +
                    " deg (the glider stalls or tumbles)";
       out.samples.push_back(sample(s));
       break;
@@ -229,8 +224,8 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
     if (std::abs(s.beta) > max_pitch) {
       out.stable = false;
       out.end = FlightEnd::Unstable;
-      out.reason = "the glider flipped: pitch passed " + fmt(opt.max_pitch_deg) + " deg at t = " +
-                   fmt(s.t) + " s";
+      out.reason = "the glider flipped: pitch passed " + fmt_number(opt.max_pitch_deg) + " deg at t = " +
+                   fmt_number(s.t) + " s";
       out.samples.push_back(sample(s));
       break;
     }

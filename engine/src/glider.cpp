@@ -6,16 +6,11 @@
 #include <sstream>
 
 #include "pteromys/geometry.hpp"
+#include "pteromys/text.hpp"
 
 namespace pteromys {
-namespace {
 
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(4);
-  s << v;
-  return s.str();
-}
+namespace {
 
 bool all_finite(const Polygon& p) {
   return std::all_of(p.begin(), p.end(),
@@ -37,7 +32,7 @@ void outline_problems(const Polygon& p, const std::string& what, const Validatio
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec2 a = p[i], b = p[(i + 1) % p.size()];
     if (norm(b - a) < tol.min_edge_m) {
-      out.push_back(what + " outline repeats the point (" + fmt(a.x) + ", " + fmt(a.y) +
+      out.push_back(what + " outline repeats the point (" + fmt_number(a.x, 4) + ", " + fmt_number(a.y, 4) +
                     ") (points " + std::to_string(i) + " and " +
                     std::to_string((i + 1) % p.size()) + "); remove the duplicate");
       return;
@@ -61,13 +56,13 @@ void outline_problems(const Polygon& p, const std::string& what, const Validatio
     return;
   }
   if (area < tol.min_area_m2) {
-    out.push_back(what + " outline is degenerate: its area is " + fmt(area) + " m^2");
+    out.push_back(what + " outline is degenerate: its area is " + fmt_number(area, 4) + " m^2");
     return;
   }
   const auto [lo, hi] = bounds(p);
   const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
   if (extent > tol.max_extent_m) {
-    out.push_back(what + " is " + fmt(extent) +
+    out.push_back(what + " is " + fmt_number(extent, 4) +
                   " m long; coordinates must be in metres (were they written in millimetres?)");
   }
 }
@@ -108,13 +103,13 @@ std::vector<std::string> validation_problems(const Glider& g, const ValidationTo
   const auto& m = g.material;
   if (!std::isfinite(m.thickness_m) || m.thickness_m <= 0)
     out.push_back("material thickness must be a positive number of metres (got " +
-                  fmt(m.thickness_m) + ")");
+                  fmt_number(m.thickness_m, 4) + ")");
   else if (m.thickness_m > 0.05)
-    out.push_back("material thickness " + fmt(m.thickness_m) +
+    out.push_back("material thickness " + fmt_number(m.thickness_m, 4) +
                   " m is not a plate; thickness is in metres (1 mm = 0.001)");
   if (!std::isfinite(m.density_kg_m3) || m.density_kg_m3 <= 0)
     out.push_back("material density must be a positive number of kg/m^3 (got " +
-                  fmt(m.density_kg_m3) + ")");
+                  fmt_number(m.density_kg_m3, 4) + ")");
 
   outline_problems(g.fuselage, "fuselage", tol, out);
   const bool fuselage_ok = out.empty() || std::none_of(out.begin(), out.end(), [](const auto& s) {
@@ -146,16 +141,16 @@ std::vector<std::string> validation_problems(const Glider& g, const ValidationTo
     }
     if (worst > tol.symmetry_m) {
       out.push_back(what + " is not mirror-symmetric about z = 0: the mirror image of point (" +
-                    fmt(worst_pt.x) + ", " + fmt(worst_pt.y) + ") is " + fmt(worst * 1000) +
+                    fmt_number(worst_pt.x, 4) + ", " + fmt_number(worst_pt.y, 4) + ") is " + fmt_number(worst * 1000, 4) +
                     " mm from the outline (allowed 0.1 mm)");
       continue;
     }
     if (std::abs(w.mount.angle_deg) > 60)
-      out.push_back(what + " mounting angle " + fmt(w.mount.angle_deg) +
+      out.push_back(what + " mounting angle " + fmt_number(w.mount.angle_deg, 4) +
                     " deg is not a wing angle (expected within +-60 deg)");
     if (fuselage_ok && root_overlap_with_fuselage(g, j) <= 0)
       out.push_back(what + " does not touch the fuselage: its root chord at (" +
-                    fmt(w.mount.x_m) + ", " + fmt(w.mount.y_m) +
+                    fmt_number(w.mount.x_m, 4) + ", " + fmt_number(w.mount.y_m, 4) +
                     ") m lies outside the fuselage plate");
   }
   for (std::size_t k = 0; k < g.ballast.size(); ++k) {
@@ -164,7 +159,7 @@ std::vector<std::string> validation_problems(const Glider& g, const ValidationTo
     if (!std::isfinite(b.mass_kg) || !std::isfinite(b.x_m) || !std::isfinite(b.y_m))
       out.push_back(what + " has a NaN or infinite number");
     else if (b.mass_kg < 0)
-      out.push_back(what + " has negative mass " + fmt(b.mass_kg) + " kg");
+      out.push_back(what + " has negative mass " + fmt_number(b.mass_kg, 4) + " kg");
   }
   return out;
 }

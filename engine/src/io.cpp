@@ -1,6 +1,8 @@
 #include "pteromys/io.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <dirent.h>
 #include <cstdio>
 #include <fstream>
 #include <regex>
@@ -108,6 +110,20 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     std::remove(tmp.c_str());
     throw InputError("cannot write '" + path + "': rename failed");
   }
+}
+
+std::vector<std::string> glider_files_in(const std::string& dir) {
+  std::vector<std::string> out;
+  DIR* d = opendir(dir.c_str());
+  if (!d) throw InputError("cannot read directory '" + dir + "'");
+  const std::string ext = ".glider.json";
+  while (dirent* e = readdir(d)) {
+    const std::string n = e->d_name;
+    if (n.size() > ext.size() && n.compare(n.size() - ext.size(), ext.size(), ext) == 0) out.push_back(dir + "/" + n);
+  }
+  closedir(d);
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 // ------------------------------------------------------------------ gliders

@@ -10,16 +10,11 @@
 #include <nlopt.hpp>
 
 #include "pteromys/geometry.hpp"
+#include "pteromys/text.hpp"
 
 namespace pteromys {
-namespace {
 
-std::string fmt(double v, int prec = 3) {
-  std::ostringstream s;
-  s.precision(prec);
-  s << v;
-  return s.str();
-}
+namespace {
 
 std::pair<double, double> longest_interval(const Polygon& outline) {
   std::pair<double, double> best{0, 0};
@@ -65,6 +60,14 @@ DesignCost::DesignCost(const Glider& g, std::shared_ptr<const GliderAero> aero, 
       vars_.push_back(*v);
     }
   }
+  // Front-to-back order of the wings as drawn (by the middle of the root chord).
+  for (std::size_t j = 0; j < g.wings.size(); ++j) order_.push_back(j);
+  auto root_mid_x = [&](std::size_t j) {
+    const Mount& m = g.wings[j].mount;
+    return m.x_m + std::cos(deg2rad(m.angle_deg)) * 0.5 * (root_[j].first + root_[j].second);
+  };
+  std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return root_mid_x(a) > root_mid_x(b); });
+  if (!(opt.min_wing_gap_m >= 0)) throw InputError("the minimum gap between wings must be non-negative");
   if (opt.optimise_ballast) {
     if (g.ballast.empty()) throw InputError("ballast optimisation needs at least one ballast item");
     // All ballast items move together; the variable is the first item's x.
@@ -109,6 +112,17 @@ double DesignCost::overlap(std::size_t j, const std::vector<double>& v) const {
   const Vec2 P{v[3 * j + 1], v[3 * j + 2]};
   const auto& r = root_[j];
   return segment_length_inside(glider_.fuselage, P + rotate({r.first, 0}, th), P + rotate({r.second, 0}, th));
+}
+
+std::vector<double> DesignCost::wing_gaps(const std::vector<double>& v) const {
+  std::vector<double> gaps;
+  for (std::size_t k = 0; k + 1 < order_.size(); ++k) {
+    const std::size_t a = order_[k], b = order_[k + 1];
+    const double te_a = v[3 * a + 1] + std::cos(deg2rad(v[3 * a])) * root_[a].first;
+    const double le_b = v[3 * b + 1] + std::cos(deg2rad(v[3 * b])) * root_[b].second;
+    gaps.push_back(te_a - le_b);
+  }
+  return gaps;
 }
 
 Glider DesignCost::apply(const std::vector<double>& v) const {
@@ -206,6 +220,14 @@ double DesignCost::objective(const std::vector<double>& v) const {
   for (std::size_t j = 0; j < glider_.wings.size(); ++j) {
     if (required_[j] <= 0) continue;
     const double deficit = std::max(0.0, required_[j] - overlap(j, v)) / required_[j];
+    pen += deficit + deficit * deficit;
+  }
+  // Wings keep their order along the fuselage with a gap between them.
+  const auto gaps = wing_gaps(v);
+  for (std::size_t k = 0; k < gaps.size(); ++k) {
+    const std::size_t b = order_[k + 1];
+    const double scale = std::max(opt_.min_wing_gap_m, root_[b].second - root_[b].first);
+    const double deficit = std::max(0.0, opt_.min_wing_gap_m - gaps[k]) / scale;
     pen += deficit + deficit * deficit;
   }
   const CostTerms c = evaluate(v);
@@ -376,7 +398,7 @@ OptimizeResult optimize(const Glider& g, std::shared_ptr<const GliderAero> aero,
     const bool start_feasible = f_start <= c_start * (1 + 1e-12);
     if (start_feasible && !(f_best < f_start * (1 - opt.min_improvement))) {
       best = p.full;
-      r.stop_reason += "; kept the starting mounts (improvement below " + fmt(100 * opt.min_improvement) + " %)";
+      r.stop_reason += "; kept the starting mounts (improvement below " + fmt_number(100 * opt.min_improvement) + " %)";
     }
   }
   r.evaluations = p.evaluations;
@@ -392,13 +414,18 @@ OptimizeResult optimize(const Glider& g, std::shared_ptr<const GliderAero> aero,
     std::vector<std::string> extra;
     if (r.cost.c1 > 0)
       extra.push_back(
-          "no pitch-stable mounting exists within the bounds (mounting angles " + fmt(opt.angle_min_deg) + " to " +
-          fmt(opt.angle_max_deg) + " deg, wings kept on the fuselage" +
+          "no pitch-stable mounting exists within the bounds (mounting angles " + fmt_number(opt.angle_min_deg) + " to " +
+          fmt_number(opt.angle_max_deg) + " deg, wings kept on the fuselage" +
           (opt.locks.empty() ? std::string() : ", with the locked variables fixed") +
           "): the pitching moment does not restore the angle of attack over Omega");
     for (std::size_t j = 0; j < g.wings.size(); ++j)
       if (cost.required_overlap(j) > 0 && cost.overlap(j, best) < cost.required_overlap(j) * 0.999)
         extra.push_back("wing '" + g.wings[j].name + "' could not be kept on the fuselage at its best position");
+    const auto gaps = cost.wing_gaps(best);
+    for (std::size_t k = 0; k < gaps.size(); ++k)
+      if (gaps[k] < opt.min_wing_gap_m - 1e-6)
+        extra.push_back("wings '" + g.wings[cost.wing_order()[k]].name + "' and '" + g.wings[cost.wing_order()[k + 1]].name +
+                        "' could not be kept apart along the fuselage (gap " + fmt_number(1000 * gaps[k]) + " mm)");
     r.report.reasons.insert(r.report.reasons.begin(), extra.begin(), extra.end());
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

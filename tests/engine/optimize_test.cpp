@@ -87,6 +87,42 @@ TEST(Optimize, WingsStayOnTheFuselage) {
   }
 }
 
+// Wings keep the drawn front-to-back order with the minimum gap between root
+// chords, even when the tail's best place alone would be under the main wing.
+TEST(Optimize, WingsKeepTheirOrderAndAGap) {
+  const auto model = default_model();
+  for (const auto& [path, g] : test::examples()) {
+    const OptimizeResult r = optimize(zero_angles(g), model);
+    // Independent computation of the gaps from the result's mounts.
+    std::vector<std::pair<double, std::size_t>> mids;
+    for (std::size_t j = 0; j < g.wings.size(); ++j) {
+      double lo = 0, hi = 0;
+      for (const auto& iv : root_chord_intervals(g.wings[j].outline))
+        if (iv.second - iv.first > hi - lo) { lo = iv.first; hi = iv.second; }
+      const Mount& m0 = g.wings[j].mount;
+      mids.push_back({m0.x_m + 0.5 * (lo + hi), j});
+    }
+    std::sort(mids.rbegin(), mids.rend());
+    for (std::size_t k = 0; k + 1 < mids.size(); ++k) {
+      const Wing& a = r.glider.wings[mids[k].second];
+      const Wing& b = r.glider.wings[mids[k + 1].second];
+      const auto ra = root_chord_intervals(a.outline).front(), rb = root_chord_intervals(b.outline).front();
+      const double te_a = a.mount.x_m + std::cos(deg2rad(a.mount.angle_deg)) * ra.first;
+      const double le_b = b.mount.x_m + std::cos(deg2rad(b.mount.angle_deg)) * rb.second;
+      EXPECT_GE(te_a - le_b, 0.01 - 1e-5) << path << ": " << a.name << " / " << b.name;
+    }
+  }
+  // A tail whose x alone would slide under the main wing (the workbench's
+  // template, issue 5) stays behind it.
+  Glider g = zero_angles(from_file("examples/gliders/tapered.glider.json"));
+  OptimizeOptions opt;
+  opt.locks = {"main.x", "main.y", "main.angle"};
+  const OptimizeResult r = optimize(g, model, opt);
+  const auto rm = root_chord_intervals(g.wings[0].outline).front();
+  const auto rt = root_chord_intervals(g.wings[1].outline).front();
+  EXPECT_GE(g.wings[0].mount.x_m + rm.first - (r.glider.wings[1].mount.x_m + std::cos(deg2rad(r.glider.wings[1].mount.angle_deg)) * rt.second), 0.01 - 1e-5);
+}
+
 // Optional ballast variable: moves the ballast within the fuselage and keeps
 // the rest feasible.
 TEST(Optimize, BallastCanBeADesignVariable) {

@@ -1,27 +1,12 @@
 #include "test_support.hpp"
 
-#include <algorithm>
-#include <dirent.h>
-
 #include "pteromys/io.hpp"
 
 namespace pteromys::test {
 
 std::string source_path(const std::string& rel) { return std::string(PTEROMYS_SOURCE_DIR) + "/" + rel; }
 
-std::vector<std::string> example_paths() {
-  std::vector<std::string> out;
-  const std::string dir = source_path("examples/gliders");
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") out.push_back(dir + "/" + n);
-    }
-    closedir(d);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
+std::vector<std::string> example_paths() { return glider_files_in(source_path("examples/gliders")); }
 
 std::vector<std::pair<std::string, Glider>> examples() {
   std::vector<std::pair<std::string, Glider>> out;

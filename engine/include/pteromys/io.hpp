@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +48,10 @@ std::string trajectories_csv(const Flyability& f);
 /// failure never leaves a partly written file. Throws InputError on failure.
 void write_file_atomic(const std::string& path, const std::string& text);
 std::string read_file(const std::string& path);
+
+/// Paths of the *.glider.json files directly in `dir`, sorted. Throws
+/// InputError when the directory cannot be read.
+std::vector<std::string> glider_files_in(const std::string& dir);
 
 /// Parses JSON text; on failure throws InputError with line/column and, for
 /// NaN/Infinity literals, says that they are not valid JSON numbers.

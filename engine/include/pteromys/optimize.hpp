@@ -41,6 +41,10 @@ struct OptimizeOptions {
   /// A wing stays mounted: at least this fraction of its root chord lies
   /// inside the fuselage plate (room for its slot joint).
   double min_overlap_fraction = 0.6;
+  /// Wings keep the front-to-back order in which they are drawn, with at least
+  /// this gap [m] between one wing's root trailing edge and the next wing's
+  /// root leading edge (room for the fuselage between their slots).
+  double min_wing_gap_m = 0.01;
   /// Variables kept as they are: "WING.angle", "WING.x", "WING.y", "ballast.x".
   std::vector<std::string> locks;
   bool optimise_ballast = false;  ///< ballast x becomes a variable (all items move together)
@@ -81,6 +85,12 @@ class DesignCost {
   /// and the length required by min_overlap_fraction.
   double overlap(std::size_t j, const std::vector<double>& values) const;
   double required_overlap(std::size_t j) const { return required_[j]; }
+  /// Gap along x between consecutive wings, front to back in the drawn order
+  /// (root trailing edge of the front wing minus root leading edge of the
+  /// next) [m]; one entry per consecutive pair. Negative: the wings overlap.
+  std::vector<double> wing_gaps(const std::vector<double>& values) const;
+  /// Wing indices front to back as drawn.
+  const std::vector<std::size_t>& wing_order() const { return order_; }
   /// The glider with these values written into its mounts (and ballast).
   Glider apply(const std::vector<double>& values) const;
   /// Mounted glider (tables shared) for these values.
@@ -101,6 +111,7 @@ class DesignCost {
   std::vector<std::pair<double, double>> root_;  // longest root chord interval per wing
   double ballast_dx0_ = 0;  // reference x of the ballast group
   double ref_chord_ = 0;    // mean chord of the largest wing (static margin reference)
+  std::vector<std::size_t> order_;  // wings front to back as drawn
 };
 
 struct OptimizeResult {
