@@ -265,6 +265,58 @@ def heldout_bar_plot(tables, out_png):
     plt.close(fig)
 
 
+def whole_flights(model_path):
+    """The six standard launches of every training and held-out glider flown
+    to the ground by the reference simulator (every aerodynamic effect), the
+    flat-plate element and the fitted model: distances and stability."""
+    rows = []
+    for folder in ("training", "heldout"):
+        d = os.path.join(ROOT, "examples", folder)
+        for name in sorted(os.listdir(d)):
+            if not name.endswith(".glider.json"):
+                continue
+            g = os.path.join(d, name)
+            for v in (7.0, 9.0, 11.0):
+                for a in (0.0, 10.0):
+                    ref = pteromys.reference_simulate(g, v, a, 1.5, effects="physics", record_every=50)
+                    flat = pteromys.simulate(g, v, a, 1.5, model=pteromys.flat_plate_model(), record_every=50)
+                    fit = pteromys.simulate(g, v, a, 1.5, model=model_path, record_every=50)
+                    rows.append({"glider": name[:-12], "set": folder, "speed": v, "climb": a,
+                                 "reference": (ref["distance_m"], ref["stable"]),
+                                 "flat_plate": (flat["distance_m"], flat["stable"]),
+                                 "fitted": (fit["distance_m"], fit["stable"])})
+    out = {}
+    for key in ("flat_plate", "fitted"):
+        both = [r for r in rows if r["reference"][1] and r[key][1]]
+        err = [abs(r[key][0] - r["reference"][0]) for r in both]
+        out[key] = {"launches": len(rows), "stable_in_reference": sum(r["reference"][1] for r in rows),
+                    "stable_in_model": sum(r[key][1] for r in rows),
+                    "stability_disagrees": sum(r[key][1] != r["reference"][1] for r in rows),
+                    "mean_abs_distance_error_m": float(np.mean(err)) if err else None,
+                    "median_abs_distance_error_m": float(np.median(err)) if err else None}
+    return rows, out
+
+
+def distance_plot(rows, out_png):
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4), dpi=110, sharey=True)
+    for ax, key, c in zip(axes, ("flat_plate", "fitted"), ("#2ca02c", "#d62728")):
+        for r in rows:
+            ok = r[key][1] and r["reference"][1]
+            ax.plot(r["reference"][0], r[key][0], "o" if ok else "x", color=c if ok else "k", ms=4,
+                    mfc=c if r["set"] == "training" else "none")
+        lim = max(max(r["reference"][0], r[key][0]) for r in rows) * 1.05
+        ax.plot([0, lim], [0, lim], "k-", lw=0.6)
+        ax.set_xlabel("distance in the reference simulator [m]")
+        ax.set_title(("empirical flat-plate element" if key == "flat_plate" else "fitted model (shipped)") +
+                     "\nfilled: training, open: held out, x: unstable in one of the two", fontsize=9)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("distance predicted [m]")
+    fig.suptitle("Whole flights: the six standard launches of the 24 gliders flown to the ground", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out_png)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -384,6 +436,17 @@ def main():
                     "Training flights without noise: launch fitted to all points; the shipped model against the "
                     "flat-plate element (paper Fig. 12)", pick=2)
 
+    log("whole flights of the standard launches")
+    whole = {}
+    for key in ("default", "more", "exact"):
+        rows_k, w = whole_flights(models[key])
+        whole["flat_plate"] = w["flat_plate"]
+        whole[key] = w["fitted"]
+        if key == "default":
+            rows = rows_k
+    summary["whole_flights"] = whole
+    distance_plot(rows, os.path.join(a.img, "fit_distances.png"))
+
     summary["total_s"] = time.time() - t0
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
@@ -417,6 +480,7 @@ def main():
                 else f"{key:10s} {'':5s}  {'':7s}  {'':6s}")
         print(f"{head} | {100 * t['heldout_after_10_m']:8.2f}  {100 * t['heldout_all_points_m']:12.2f}  "
               f"{100 * t['train_all_points_m']:12.2f}")
+    print("whole flights:", json.dumps(whole, indent=1))
 
 
 if __name__ == "__main__":
