@@ -72,3 +72,4 @@ from ._core import optimize, design_cost, OptimizeState  # noqa: E402,F401  (iss
 from ._core import export, fabrication_plan, slotted_plates  # noqa: F401,E402  (fabrication, docs/fabrication.md)
 from .fit import fit, fit_launch, predict_flights, simulate_track, synthetic_dataset  # noqa: E402,F401  (issue 6)
 from .reference import *  # noqa: E402,F401,F403  (issue 6: reference simulator)
+from . import capture  # noqa: E402,F401  (issue 8: flight capture, docs/capture.md)
