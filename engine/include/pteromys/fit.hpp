@@ -154,8 +154,8 @@ struct FitOptions {
   bool information_criterion = true;
   /// An extra, fixed threshold: the RMSE must also fall by this fraction (0 = off).
   double min_improvement = 0.0;
-  int max_rounds = 3;              ///< launch/coefficient alternations per number of centres
-  double round_tolerance = 0.002;  ///< alternation stops when the RMSE falls by less than this fraction
+  int max_rounds = 3;              ///< launch/coefficient alternations per number of centres (paper's scheme, M > 0)
+  double round_tolerance = 0.002;  ///< alternation stops when the RMSE falls by less than this fraction (M > 0)
   int max_iterations = 12;         ///< Levenberg-Marquardt iterations per coefficient fit
   int candidates = 24;             ///< candidate centres scored at each insertion
   /// Weight of the pull of each centre value toward the prior's value, as the
@@ -169,10 +169,11 @@ struct FitOptions {
   double cd_max = 2.5, cl_max = 2.5, cm_max = 1.0;  ///< bounds: 0 <= cd <= cd_max, |cl| <= cl_max, |cm| <= cm_max
   /// Eq. 5 (M, starts, pitch rate, time step). Here M = 0 (all points) by
   /// default, unlike the paper's M = 10: launch and coefficient fits then
-  /// minimise the same error E of eq. 6, so the alternation cannot raise it,
-  /// and a launch estimated from 10 noisy points no longer leaves errors
-  /// that the coefficients learn to compensate (docs/fitting.md measures
-  /// both). Set launch.points = 10 for the paper's scheme.
+  /// minimise the same error E of eq. 6 and are solved jointly by variable
+  /// projection, and a launch estimated from 10 noisy points no longer
+  /// leaves errors that the coefficients learn to compensate
+  /// (docs/fitting.md measures both). Set launch.points = 10 for the
+  /// paper's scheme (alternation, max_rounds).
   LaunchFitOptions launch = all_points_launch_fit();
   AeroOptions aero;                ///< wing-element spacing and force-table grid
   RbfScales scales;                ///< kernel widths of a new model (a start model keeps its own)
