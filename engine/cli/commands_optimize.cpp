@@ -109,7 +109,7 @@ const bool registered = register_command(30, {"optimize", 0,
     "  --max-evaluations N    cost evaluations allowed (default 3000)\n"
     "  --w1 W, --w2 W         cost weights (default 100 and 1, as the paper)\n"
     "  --w4 W                 weight of the static-margin term C4 (default 1; 0 = the paper's cost)\n"
-    "  --min-static-margin H  static margin C4 asks for, fraction of the main chord (default 0.05)\n"
+    "  --min-static-margin H  static margin C4 asks for, fraction of the main chord (default 0.10)\n"
     "  --speed-range LO,HI    Omega's speeds [m/s] (default 6,9)\n"
     "  --alpha-range LO,HI    Omega's angles of attack [deg] (default -10,10)\n"
     "  --angle-range LO,HI    bounds of the mounting angles [deg] (default -10,15)\n"

@@ -108,7 +108,7 @@ void bind_optimize(py::module_& m) {
       py::arg("algorithm") = "bobyqa", py::arg("max_evaluations") = 3000, py::arg("speed_range") = py::none(),
       py::arg("alpha_range_deg") = py::none(), py::arg("angle_range_deg") = py::none(), py::arg("w1") = 100.0,
       py::arg("w2") = 1.0, py::arg("min_overlap") = 0.6, py::arg("w4") = 1.0,
-      py::arg("min_static_margin") = 0.05, py::arg("min_wing_gap_mm") = 10.0, py::arg("dz") = 0.005,
+      py::arg("min_static_margin") = 0.10, py::arg("min_wing_gap_mm") = 10.0, py::arg("dz") = 0.005,
       "Adjust mounting angles and positions (paper section 6). Returns a dict: 'glider' (glider dict\n"
       "with the new mounts), 'report' (report dict), 'flights' (six (n, 9) arrays), 'cost' and\n"
       "'cost_start' ({c1, c2, c3, c4, total}); w4 = 0 gives the paper's cost exactly, 'variables', 'evaluations', 'seconds', 'algorithm',\n"

@@ -195,10 +195,18 @@ CostTerms DesignCost::evaluate(const std::vector<double>& v) const {
       const double f = T[cell] / (T[cell] - T[cell + 1]);
       lift = L[cell] + f * (L[cell + 1] - L[cell]);
       drag = D[cell] + f * (D[cell + 1] - D[cell]);
-      // Static margin from the cell's slopes: x_cg - x_np = -(dT/dg) / (dF_Y/dg).
+      // Static margin x_cg - x_np = -(dT/dg) / (dF_Y/dg) at gamma*, from slopes
+      // at the grid nodes interpolated to gamma* (continuous as gamma* moves
+      // from cell to cell, so the optimiser sees no jumps).
       auto fy = [&](int i) { return L[i] * std::cos(G[i]) + D[i] * std::sin(G[i]); };
-      const double dfy = fy(cell + 1) - fy(cell);
-      if (dfy > 0 && ref_chord_ > 0) margin = -(T[cell + 1] - T[cell]) / dfy / ref_chord_;
+      auto node_slope = [&](int i, auto&& f) {
+        const int a = std::max(0, i - 1), b = std::min(ng - 1, i + 1);
+        return (f(b) - f(a)) / (G[b] - G[a]);
+      };
+      auto t_of = [&](int i) { return T[i]; };
+      const double dT = node_slope(cell, t_of) + f * (node_slope(cell + 1, t_of) - node_slope(cell, t_of));
+      const double dF = node_slope(cell, fy) + f * (node_slope(cell + 1, fy) - node_slope(cell, fy));
+      if (dF > 0 && ref_chord_ > 0) margin = -dT / dF / ref_chord_;
     } else {
       // No equilibrium on the grid: use the end where |T_z| is smallest.
       const int e = std::abs(T[0]) < std::abs(T[ng - 1]) ? 0 : ng - 1;

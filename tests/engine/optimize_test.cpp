@@ -150,8 +150,11 @@ TEST(Optimize, WarmStartAfterSmallShapeChange) {
   }
 }
 
-// C1..C3 as the paper defines them, recomputed independently from F(V, gamma)
-// with a fine root search of T_z = 0 instead of the 21-point interpolation.
+// C1..C3 as the paper defines them. (a) An independent implementation of the
+// paper's discretisation (4 speeds, trapezoid rule; forces sampled at 21
+// angles, T_z = 0 found by linear interpolation) from F(V, gamma) gives the
+// same numbers. (b) As the angle grid is refined the discretised integrals
+// converge to the continuous ones, computed with a fine root search.
 TEST(Optimize, CostTermsFollowThePapersDefinitions) {
   const auto model = default_model();
   for (const auto& [path, g0] : test::examples()) {
@@ -165,19 +168,40 @@ TEST(Optimize, CostTermsFollowThePapersDefinitions) {
     const CostTerms c = cost.evaluate(v);
     const MountedGlider mg = cost.mounted(v);
     const double W = mg.mass().mass * 9.81, lo = deg2rad(-10), hi = deg2rad(10);
+    // (a) the paper's discretisation, written out again.
     double c1 = 0, c2 = 0, c3 = 0;
     for (int k = 0; k < 4; ++k) {
       const double V = 6 + k, w = (k == 0 || k == 3) ? 0.5 : 1.0;  // trapezoid, h = 1 m/s
       c1 += w * (std::max(0.0, -mg.forces(V, lo).moment) + std::max(0.0, mg.forces(V, hi).moment));
-      TrimPoint t;
-      ASSERT_TRUE(find_trim(mg, V, lo, hi, &t)) << path;
-      c2 += w * (t.lift - W) * (t.lift - W);
-      c3 += w * t.drag * t.drag;
+      std::vector<GliderForces> f;
+      for (int i = 0; i < 21; ++i) f.push_back(mg.forces(V, lo + (hi - lo) * i / 20));
+      int cell = -1;
+      for (int i = 0; i < 20 && cell < 0; ++i)
+        if (f[i].moment >= 0 && f[i + 1].moment < 0) cell = i;
+      ASSERT_GE(cell, 0) << path << ": the optimum has an equilibrium at every speed";
+      const double t = f[cell].moment / (f[cell].moment - f[cell + 1].moment);
+      const double lift = f[cell].lift + t * (f[cell + 1].lift - f[cell].lift);
+      const double drag = f[cell].drag + t * (f[cell + 1].drag - f[cell].drag);
+      c2 += w * (lift - W) * (lift - W);
+      c3 += w * drag * drag;
     }
     EXPECT_NEAR(c.c1, c1, 1e-12) << path;
-    // The paper's linear interpolation over a 1-degree grid: ~1 % of the terms.
-    EXPECT_NEAR(c.c2, c2, 0.02 * c2 + 1e-7) << path;
-    EXPECT_NEAR(c.c3, c3, 0.02 * c3 + 1e-9) << path;
+    EXPECT_NEAR(c.c2, c2, 1e-9 * c2 + 1e-15) << path;
+    EXPECT_NEAR(c.c3, c3, 1e-9 * c3 + 1e-15) << path;
+    // (b) a 401-angle grid against the continuous equilibrium line.
+    OptimizeOptions fine = opt;
+    fine.n_gammas = 401;
+    const CostTerms cf = DesignCost(g, aero, fine).evaluate(v);
+    double e2 = 0, e3 = 0;
+    for (int k = 0; k < 4; ++k) {
+      const double V = 6 + k, w = (k == 0 || k == 3) ? 0.5 : 1.0;
+      TrimPoint tp;
+      ASSERT_TRUE(find_trim(mg, V, lo, hi, &tp)) << path;
+      e2 += w * (tp.lift - W) * (tp.lift - W);
+      e3 += w * tp.drag * tp.drag;
+    }
+    EXPECT_NEAR(cf.c2, e2, 1e-3 * e2 + 1e-12) << path;
+    EXPECT_NEAR(cf.c3, e3, 1e-3 * e3 + 1e-12) << path;
   }
 }
 

@@ -34,7 +34,7 @@ struct OptimizeOptions {
   double w1 = 100.0;          ///< weight of C1 (paper)
   double w2 = 1.0;            ///< weight of C2 (paper)
   double w4 = 1.0;            ///< weight of C4 (0 = the paper's cost exactly)
-  double min_static_margin = 0.05;  ///< h_min of C4, fraction of the reference chord
+  double min_static_margin = 0.10;  ///< h_min of C4, fraction of the reference chord
   int n_speeds = 4;           ///< sampled speeds over [v_min, v_max]
   int n_gammas = 21;          ///< sampled angles over [gamma_min, gamma_max]
   double angle_min_deg = -10.0, angle_max_deg = 15.0;  ///< mounting-angle bounds
