@@ -197,7 +197,7 @@ FrameCandidates detect_frame(const cv::Mat& F, const cv::Mat& B, const DetectOpt
     const bool brighter = marker || 2 * pos >= cnt;
     // Coverage of a pixel: alpha = |F - B| / |level - B|, where the level is
     // the object's own grey value, taken from the most contrasted pixel of
-    // the blob within 6 px (the part of the object nearby that covers its
+    // the blob within 2 px (the part of the object nearby that covers its
     // pixel fully). Not 1 for every interior pixel: under motion blur thin
     // parts (a fin shorter than the blur) never cover a pixel fully, and
     // counting them as 1 pulls the centroid toward them. Not one level for
@@ -213,7 +213,7 @@ FrameCandidates detect_frame(const cv::Mat& F, const cv::Mat& B, const DetectOpt
       for (int x = 0; x < r.width; ++x)
         if (In[x] && ((I[x] > Bg[x]) == brighter)) K[x] = static_cast<ushort>((D[x] << 8) | I[x]);
     }
-    cv::dilate(key, keymax, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(13, 13)), cv::Point(-1, -1), 1,
+    cv::dilate(key, keymax, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)), cv::Point(-1, -1), 1,
                cv::BORDER_CONSTANT, cv::Scalar(0));
     double m0 = 0, mx = 0, my = 0, mxx = 0, mxy = 0, myy = 0, csum = 0;
     for (int y = 0; y < r.height; ++y) {
@@ -345,13 +345,21 @@ Detections detect_impl(const std::string& video, const DetectOptions& o) {
       lut.at<uchar>(0, h) = static_cast<uchar>(std::lround(255 * std::clamp(2.0 - dh / tol, 0.0, 1.0)));
     }
     const int vmin = static_cast<int>(std::lround(o.marker_min_value * 255));
-    feature = [lut, vmin](const cv::Mat& bgr, cv::Mat& out) {
-      cv::Mat hsv, ch[3], w;
+    const bool with_grey = o.marker_silhouettes;
+    feature = [lut, vmin, with_grey](const cv::Mat& bgr, cv::Mat& out) {
+      cv::Mat hsv, ch[3], w, score;
       cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
       cv::split(hsv, ch);
       cv::LUT(ch[0], lut, w);
-      cv::multiply(ch[1], w, out, 1.0 / 255);
-      out.setTo(0, ch[2] < vmin);
+      cv::multiply(ch[1], w, score, 1.0 / 255);
+      score.setTo(0, ch[2] < vmin);
+      if (!with_grey) {
+        out = score;
+        return;
+      }
+      cv::Mat grey;
+      cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+      cv::merge(std::vector<cv::Mat>{score, grey}, out);  // channel 0 marker score, 1 grey
     };
   }
   FrameReader reader(cap, last_needed, feature);
@@ -411,10 +419,32 @@ Detections detect_impl(const std::string& video, const DetectOptions& o) {
         samples.push_back(&buf[j].second);
       }
     }
-    const cv::Mat bg = median_of(samples);
+    const int nch = samples.front()->channels();
+    std::vector<cv::Mat> bgs(nch);
+    if (nch == 1) {
+      bgs[0] = median_of(samples);
+    } else {
+      for (int c = 0; c < nch; ++c) {
+        std::vector<cv::Mat> chan(samples.size());
+        std::vector<const cv::Mat*> ptrs;
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+          cv::extractChannel(*samples[k], chan[k], c);
+          ptrs.push_back(&chan[k]);
+        }
+        bgs[c] = median_of(ptrs);
+      }
+    }
     for (int j = lo_i; j <= hi_i && buf[j].first <= chunk_end; ++j) {
       if (!in_ranges(buf[j].first)) continue;
-      FrameCandidates fc = detect_frame(buf[j].second, bg, o, marker, diff, weak, lab);
+      FrameCandidates fc;
+      if (nch == 1) {
+        fc = detect_frame(buf[j].second, bgs[0], o, marker, diff, weak, lab);
+      } else {
+        cv::Mat ch[2];
+        cv::split(buf[j].second, ch);
+        fc = detect_frame(ch[0], bgs[0], o, true, diff, weak, lab);
+        fc.silhouettes = detect_frame(ch[1], bgs[1], o, false, diff, weak, lab).candidates;
+      }
       fc.frame = buf[j].first;
       fc.t = fc.frame / d.fps;
       d.frames.push_back(std::move(fc));

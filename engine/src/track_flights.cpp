@@ -219,10 +219,12 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
   const MassProperties mp = mass_properties(g);
   res.cg_glider_m = mp.cg;
   const bool background = d.detector == Detector::Background;
+  bool have_silhouettes = background;
+  for (const auto& f : d.frames) have_silhouettes |= !f.silhouettes.empty();
   PitchSource ps = o.pitch;
-  if (ps == PitchSource::Auto) ps = background ? PitchSource::Silhouette : PitchSource::Path;
-  if (ps == PitchSource::Silhouette && !background)
-    throw InputError("the pitch can come from the silhouette only with the background detector (use --pitch path)");
+  if (ps == PitchSource::Auto) ps = have_silhouettes ? PitchSource::Silhouette : PitchSource::Path;
+  if (ps == PitchSource::Silhouette && !have_silhouettes)
+    throw InputError("the pitch can come from the silhouette only when silhouettes were detected (use pitch from the path)");
   res.pitch_source = ps == PitchSource::Silhouette ? "silhouette" : ps == PitchSource::Path ? "path" : "none";
   const bool model_centroid = background && !o.tracked_point_given && ps != PitchSource::None;
   res.perspective_model = model_centroid && cal.pose.known;
@@ -285,7 +287,8 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
     return ob;
   };
   auto cand_obs = [&](int f, int i, double conf) {
-    const auto& c = by_frame.at(f)->candidates[i];
+    const FrameCandidates& fc = *by_frame.at(f);
+    const auto& c = fc.candidates[i];
     const auto& w = wc.at(f)[i];
     Obs ob;
     ob.frame = f;
@@ -298,6 +301,18 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
     ob.angle_deg = c.angle_deg;
     ob.elongation = c.elongation;
     ob.confidence = conf;
+    if (!background) {
+      // the orientation is the silhouette's around the marker (largest one holding it)
+      ob.elongation = 1.0;
+      double best = 0;
+      for (const auto& sc : fc.silhouettes)
+        if (!sc.clipped && c.px.x >= sc.x0 - 2 && c.px.x <= sc.x1 + 2 && c.px.y >= sc.y0 - 2 && c.px.y <= sc.y1 + 2 &&
+            sc.area_px > best) {
+          best = sc.area_px;
+          ob.angle_deg = sc.angle_deg;
+          ob.elongation = sc.elongation;
+        }
+    }
     return ob;
   };
   auto n_cands = [&](int f) { return by_frame.count(f) ? static_cast<int>(by_frame.at(f)->candidates.size()) : 0; };
@@ -584,14 +599,16 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
         const double phi_g = std::atan2(std::sin(phi_w), s * std::cos(phi_w));
         double b = wrap_half_pi(phi_g - phi0 - path[i]) + path[i];
         if (res.perspective_model) {
-          // compare with the model's image axis at this pitch and correct once
-          Vec2 cen, cgp;
-          double ang;
-          const Vec2 cg_guess{p.w.x + s * rotate(offset_g, b).x, p.w.y + rotate(offset_g, b).y};
-          if (model.view(cg_guess, b, cen, ang, cgp)) {
-            const double m_w = world_axis_angle(cal, cen, ang);
-            const double dphi = wrap_half_pi(phi_w - m_w);
+          // the pitch at which the projected model shows the measured axis
+          // (fixed-point iteration: the model's axis turns with the pitch)
+          for (int it = 0; it < 4; ++it) {
+            Vec2 cen, cgp;
+            double ang;
+            const Vec2 cg_guess{p.w.x + s * rotate(offset_g, b).x, p.w.y + rotate(offset_g, b).y};
+            if (!model.view(cg_guess, b, cen, ang, cgp)) break;
+            const double dphi = wrap_half_pi(phi_w - world_axis_angle(cal, cen, ang));
             b += s * dphi;
+            if (std::abs(dphi) < 1e-4) break;
           }
         }
         raw_b[i] = b;

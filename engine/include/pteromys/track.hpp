@@ -56,6 +56,7 @@ struct DetectOptions {
   // -- both
   int min_area_px = 4;           ///< smaller blobs are ignored
   int max_candidates = 12;       ///< strongest blobs (sum of the difference) kept per frame
+  bool marker_silhouettes = true;  ///< marker detector: also find the silhouettes (pitch; about 1.6x the time)
   std::vector<FrameRange> ranges;  ///< frames to process; empty: the whole video
   double fps = 0;                ///< frame rate [1/s]; 0: as the file says
   /// Called now and then with (frames done, frames to do).
@@ -78,6 +79,9 @@ struct FrameCandidates {
   double t = 0;         ///< frame / fps [s]
   double noise = 0;     ///< robust noise sigma of the difference image [grey levels or score]
   std::vector<Candidate> candidates;  ///< strongest first
+  /// Marker detector only: the moving silhouettes of the frame (grey-level
+  /// background subtraction), whose orientation gives the pitch.
+  std::vector<Candidate> silhouettes;
 };
 
 struct Detections {
@@ -101,8 +105,8 @@ struct Correction {
 };
 
 enum class PitchSource {
-  Auto,        ///< silhouette for the background detector, path for the marker
-  Silhouette,  ///< principal axis of the blob, against the glider's own silhouette
+  Auto,        ///< silhouette when silhouettes were detected, else path
+  Silhouette,  ///< principal axis of the silhouette, against the glider's own (projected) silhouette
   Path,        ///< direction of the track plus `aoa_deg`
   None         ///< no pitch: the tracked point is taken as the CG (a marker on the CG)
 };

@@ -103,8 +103,9 @@ def track_flights(detections, calibration, glider, corrections=None, frames=None
     corrections: ``{frame: (u, v) or None}`` or a corrections file path
     (``None`` marks a frame where the glider is not visible). frames: one
     flight per range (as for :func:`detect`); default: launches found
-    automatically. pitch: ``"auto"``, ``"silhouette"``, ``"path"`` or
-    ``"none"``. marker_at: the glider-frame point tracked [m] (the marker's
+    automatically. pitch: ``"auto"`` (the silhouette's orientation when
+    silhouettes were detected, else the path), ``"silhouette"``, ``"path"`` or
+    ``"none"`` (the tracked point is the CG). marker_at: the glider-frame point tracked [m] (the marker's
     centre; default the CG for the marker detector, the silhouette centroid
     otherwise). Returns a :class:`TrackResult`: ``flights`` (dicts of arrays
     ``frame, t_s, u_px, v_px, x_m, y_m, pitch_deg, confidence, manual`` ...),

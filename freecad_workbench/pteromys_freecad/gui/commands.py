@@ -15,7 +15,7 @@ TOOLBAR = ["Pteromys_NewGlider", "Pteromys_AddWing", "Pteromys_OptimiseNow", "Pt
            "Separator", "Pteromys_ImportGlider", "Pteromys_ExportGlider"]
 MENU = ["Pteromys_NewGlider", "Pteromys_AddWing", "Pteromys_EditGlider", "Pteromys_OptimiseNow",
         "Pteromys_FlightView", "Separator", "Pteromys_ExportDXF", "Pteromys_ExportSTEP", "Separator",
-        "Pteromys_ImportGlider", "Pteromys_ExportGlider"]
+        "Pteromys_ImportGlider", "Pteromys_ExportGlider", "Separator", "Pteromys_TrackVideo"]
 
 
 def _pf():
@@ -242,6 +242,8 @@ COMMANDS = {
     "Pteromys_ExportDXF": ExportDXF, "Pteromys_ExportSTEP": ExportSTEP,
     "Pteromys_ImportGlider": ImportGlider, "Pteromys_ExportGlider": ExportGlider,
 }
+from .capture_view import TrackVideo  # noqa: E402 (flight capture, docs/capture.md)
+COMMANDS["Pteromys_TrackVideo"] = TrackVideo
 
 _registered = False
 

@@ -1,0 +1,167 @@
+"""Flight capture end to end through the command line (issue 8, docs/capture.md):
+render-video -> calibrate -> track -> dataset -> fit, and the refusals of bad
+input.
+
+The reference is the truth written by ``render-video --truth`` (the CG of the
+simulated flight the video was drawn from), not anything the tracker says.
+"""
+import csv
+import json
+import math
+import os
+
+import pytest
+
+from conftest import ROOT, run
+
+GLIDER = os.path.join(ROOT, "examples", "training", "t04-tapered-mild.glider.json")
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+@pytest.fixture(scope="module")
+def scene(tmp_path_factory):
+    """Two launches seen from 4.5 m (1280x720, 30 fps, lens distortion, noise, MJPG)."""
+    d = tmp_path_factory.mktemp("capture")
+    video, truth, points = d / "launches.avi", d / "truth.csv", d / "points.json"
+    r = run(["render-video", GLIDER, "-o", video, "--launches", "8,4;10,0", "--distance", "4.5", "--truth", truth,
+             "--points", points, "--seed", "3", "--quiet"])
+    assert r.returncode == 0, r.stderr
+    calib = d / "calib.json"
+    r = run(["calibrate", points, "-o", calib])
+    assert r.returncode == 0, r.stderr
+    return {"dir": d, "video": video, "truth": truth, "points": points, "calib": calib}
+
+
+@pytest.fixture(scope="module")
+def dataset(scene):
+    out = scene["dir"] / "data"
+    r = run(["track", scene["video"], "--calib", scene["calib"], "--glider", GLIDER, "-o", out, "--glider-key", "g01",
+             "--quiet"])
+    assert r.returncode == 0, r.stderr
+    return out
+
+
+def test_calibrate_reports_residuals_in_metres(scene):
+    r = run(["calibrate", scene["points"], "-o", scene["dir"] / "c2.json"])
+    assert r.returncode == 0, r.stderr
+    c = json.load(open(scene["calib"]))
+    assert c["format"] == "pteromys-calibration/1"
+    # 12 points clicked with 0.3 px noise at 4.5 m (about 4.6 mm per pixel): residuals of a few mm
+    res = c["residual"]
+    assert 0 < res["rms_m"] < 0.005 and 0 < res["leave_one_out_rms_m"] < 0.008, res
+    assert "mm" in r.stdout
+
+
+def test_track_writes_one_flight_per_launch_close_to_the_truth(scene, dataset):
+    ds = json.load(open(dataset / "dataset.json"))
+    assert ds["format"] == "pteromys-flights/1" and ds["frame_rate_hz"] == 30.0
+    assert ds["gliders"] == {"g01": "gliders/g01.glider.json"}
+    assert 0 < ds["tracking_sigma_m"] < 0.01
+    rows = read_csv(dataset / ds["flights_csv"])
+    assert list(rows[0].keys())[:5] == ["flight", "glider", "t_s", "x_m", "y_m"]
+    flights = sorted({r["flight"] for r in rows})
+    assert len(flights) == 2
+    truth = {}
+    for t in read_csv(scene["truth"]):
+        truth[int(t["frame"])] = (float(t["x_m"]), float(t["y_m"]), int(t["flight"]))
+    # tracks.csv gives each point's frame; flights.csv the CG in the plane
+    tracks = read_csv(dataset / "tracks.csv")
+    assert len(tracks) == len(rows)
+    sq, n, by_flight = 0.0, 0, {}
+    for row, tr in zip(rows, tracks):
+        fr = int(tr["frame"])
+        assert fr in truth, "a point in frame %d, where no glider was drawn" % fr
+        x, y, k = truth[fr]
+        by_flight.setdefault(row["flight"], set()).add(k)
+        assert float(row["t_s"]) == pytest.approx(fr / 30.0, abs=1e-5)
+        sq += (float(row["x_m"]) - x) ** 2 + (float(row["y_m"]) - y) ** 2
+        n += 1
+    assert n >= 20
+    # each dataset flight holds the frames of one launch only
+    assert sorted(len(v) for v in by_flight.values()) == [1, 1]
+    assert {next(iter(v)) for v in by_flight.values()} == {0, 1}
+    assert math.sqrt(sq / n) <= 0.010, math.sqrt(sq / n)
+
+
+def test_fit_accepts_the_tracked_dataset(dataset, tmp_path):
+    rep = tmp_path / "fit.json"
+    r = run(["fit", dataset / "dataset.json", "-o", tmp_path / "model.json", "--json", rep, "--max-centres", "1",
+             "--threads", "2", "--quiet"])
+    assert r.returncode == 0, r.stderr
+    f = json.load(open(rep))
+    assert f["format"] == "pteromys-fit/1" and f["flights"] == 2
+    # the baseline-simulated flights, tracked to ~mm, are fitted to a few cm at most
+    assert 0 < f["fit_rmse_m"] < 0.05, f["fit_rmse_m"]
+
+
+def test_track_help_documents_the_command():
+    h = run(["track", "--help"])
+    assert h.returncode == 0
+    assert "usage: pteromys track VIDEO --calib CALIB.json --glider GLIDER.glider.json -o DATASET_DIR" in h.stdout
+    assert "track" in run(["--help"]).stdout
+
+
+def _refused(r, words):
+    assert r.returncode != 0
+    assert "Traceback" not in r.stderr and "terminate" not in r.stderr
+    assert words in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+@pytest.mark.parametrize("case", ["missing video", "unreadable video", "glider not found", "calibration not found"])
+def test_track_refuses_bad_input_and_writes_nothing(scene, tmp_path, case):
+    out = tmp_path / "data"
+    video, glider, calib = scene["video"], GLIDER, scene["calib"]
+    if case == "missing video":
+        video, words = tmp_path / "nope.avi", "no such file"
+    elif case == "unreadable video":
+        video = tmp_path / "text.avi"
+        video.write_text("not a video\n" * 100)
+        words = "cannot read video"
+    elif case == "glider not found":
+        glider, words = tmp_path / "nope.glider.json", "nope.glider.json"
+    else:
+        calib, words = tmp_path / "nope.json", "nope.json"
+    r = run(["track", video, "--calib", calib, "--glider", glider, "-o", out, "--quiet"])
+    _refused(r, words)
+    assert not out.exists() or not os.listdir(out)
+
+
+def _points(scene, edit):
+    p = json.load(open(scene["points"]))
+    edit(p["points"])
+    return p
+
+
+@pytest.mark.parametrize("case", ["three points", "collinear points"])
+def test_calibrate_refuses_too_few_or_collinear_points(scene, tmp_path, case):
+    def three(pts):
+        del pts[3:]
+
+    def collinear(pts):
+        # five points measured along one rod: every world point on one line
+        del pts[5:]
+        for i, q in enumerate(pts):
+            q["world_m"] = [0.5 * i, 1.0 + 0.25 * i]
+    p = _points(scene, three if case == "three points" else collinear)
+    path = tmp_path / "points.json"
+    path.write_text(json.dumps(p))
+    out = tmp_path / "calib.json"
+    r = run(["calibrate", path, "-o", out])
+    _refused(r, "at least 4" if case == "three points" else "line")
+    assert not out.exists()
+    # the same points given straight to track are refused the same way, with no dataset
+    r = run(["track", scene["video"], "--calib", path, "--glider", GLIDER, "-o", tmp_path / "data", "--quiet"])
+    _refused(r, "at least 4" if case == "three points" else "line")
+    assert not (tmp_path / "data").exists()
+
+
+def test_existing_dataset_is_kept_unless_asked(scene, dataset):
+    before = (dataset / "flights.csv").read_text()
+    r = run(["track", scene["video"], "--calib", scene["calib"], "--glider", GLIDER, "-o", dataset, "--quiet"])
+    _refused(r, "already holds a dataset")
+    assert (dataset / "flights.csv").read_text() == before
