@@ -245,6 +245,10 @@ COMMANDS = {
 from .capture_view import TrackVideo  # noqa: E402 (flight capture, docs/capture.md)
 COMMANDS["Pteromys_TrackVideo"] = TrackVideo
 
+from ..diagnose_gui import DiagnoseFlights  # noqa: E402  (issue 7: sim-to-real diagnosis)
+COMMANDS["Pteromys_DiagnoseFlights"] = DiagnoseFlights
+MENU += ["Separator", "Pteromys_DiagnoseFlights"]
+
 _registered = False
 
 

@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""Blind validation of `pteromys diagnose` (issue 7, docs/diagnosis.md).
+
+Datasets come from the reference simulator (`pteromys generate`): one effect
+of the library switched on with a known strength (every other effect off, as
+the baseline assumes), null datasets (every effect off) and two-effect
+datasets, over several seeds. Each is diagnosed blind (the truth is only read
+afterwards, from this script's case list) and the results are tabulated:
+confusion matrix, top-1 attribution, false discoveries on null data, shrink
+against the oracle, fitted against true strength, detection against strength.
+
+    PYTHONPATH=build/python /usr/bin/python3 bench/diagnosis/run_blind.py --build build --out out/blind [--quick]
+
+The oracle is the reference simulator itself (the baseline plus the true
+effect): it explains a flight up to the tracking noise, so its held-out RMSE
+is the noise floor that the diagnosis reports (noise_rmse_m: sigma times
+sqrt((2N - 5F - trims)/N)), and its shrink is 1 - noise_rmse_m / baseline
+holdout_rmse_m.
+"""
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+GLIDERS = ["t01-rectangular", "t03-rectangular-long", "t04-tapered-mild", "t06-swept-15", "t09-forward-swept-15",
+           "t12-elliptic", "t14-straight-trailing-edge", "t17-canard"]
+EFFECTS = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect", "launch_rotation",
+           "added_mass", "wind", "camera"]
+# Camera: 10 frames per second, 15-20 points (1.5-2 s of each flight), 5 cm noise.
+GEN = ["--flights-per-glider", "4", "--frame-rate", "10", "--points", "15-20", "--noise-m", "0.05"]
+DIAG = ["--max-centres", "3", "--polish", "1", "--folds", "4"]
+
+
+def cases(quick):
+    c = []
+    seeds = [21] if quick else [21, 22]
+    for s in ([31] if quick else [31, 32, 33]):
+        c.append({"name": "null-s%d" % s, "truth": [], "strength": {}, "seed": s})
+    for e in EFFECTS:
+        for s in seeds:
+            c.append({"name": "%s-1-s%d" % (e, s), "truth": [e], "strength": {e: 1.0}, "seed": s})
+    if not quick:
+        for e, v in [("pitch_damping", 0.3), ("wind", 0.3), ("camera", 0.3), ("fuselage_drag", 5.0),
+                     ("added_mass", 5.0), ("launch_rotation", 3.0)]:
+            c.append({"name": "%s-%g-s21" % (e, v), "truth": [e], "strength": {e: v}, "seed": 21})
+        c.append({"name": "wind+camera-s41", "truth": ["wind", "camera"], "strength": {"wind": 1.0, "camera": 1.0},
+                  "seed": 41})
+        c.append({"name": "pitch_damping+wind-s42", "truth": ["pitch_damping", "wind"],
+                  "strength": {"pitch_damping": 1.0, "wind": 1.0}, "seed": 42})
+    return c
+
+
+def run(cmd, log):
+    with open(log, "a") as f:
+        f.write("$ " + " ".join(cmd) + "\n")
+        f.flush()
+        r = subprocess.run(cmd, stdout=f, stderr=f)
+    if r.returncode != 0:
+        raise RuntimeError("failed (%d): %s; see %s" % (r.returncode, " ".join(cmd), log))
+
+
+def one(case, args, gl_dir):
+    d = os.path.join(args.out, case["name"])
+    res = os.path.join(d, "diagnosis.json")
+    if os.path.isfile(res):
+        with open(res) as f:
+            return case, json.load(f)
+    os.makedirs(d, exist_ok=True)
+    log = os.path.join(d, "log.txt")
+    pt = os.path.join(args.build, "bin", "pteromys")
+    gen = [pt, "generate", gl_dir, "-o", os.path.join(d, "data"), "--seed", str(case["seed"]), "--quiet"] + GEN
+    if case["truth"]:
+        gen += ["--effects", ",".join(case["truth"]),
+                "--strength", ",".join("%s=%g" % kv for kv in case["strength"].items())]
+    else:
+        gen += ["--effects", "baseline"]
+    if "ground_effect" in case["truth"]:
+        gen += ["--window", "landing"]  # where the ground acts
+    if not os.path.isfile(os.path.join(d, "data", "dataset.json")):
+        run(gen, log)
+    t = time.time()
+    run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG, log)
+    os.replace(res + ".tmp", res)
+    with open(res) as f:
+        r = json.load(f)
+    r.setdefault("timings", {})["wall_s"] = time.time() - t
+    with open(res, "w") as f:
+        json.dump(r, f, indent=1)
+    return case, r
+
+
+def strength_of(e, params):
+    """Fitted strength in the reference's units (strength 1 = nominal)."""
+    if e == "launch_rotation":
+        return params.get("pitch_rate_deg_s", 0.0) / 60.0
+    if e == "wind":
+        return -params.get("wind_m_s", 0.0) / 1.0
+    if e == "camera":
+        return params.get("scale_error", 0.0) / 0.03, params.get("roll_deg", 0.0) / 2.0
+    return params.get("strength", 0.0)
+
+
+def summarise(results):
+    labels = EFFECTS + ["none", "unexplained"]
+    conf = {t: {p: 0 for p in labels} for t in EFFECTS + ["none"]}
+    rows = []
+    single = [(c, r) for c, r in results if len(c["truth"]) == 1]
+    nominal = [(c, r) for c, r in single if list(c["strength"].values())[0] == 1.0]
+    nulls = [(c, r) for c, r in results if not c["truth"]]
+    for c, r in nominal + nulls:
+        conf[c["truth"][0] if c["truth"] else "none"][r["verdict"]] += 1
+    top1 = sum(1 for c, r in nominal if r["verdict"] == c["truth"][0])
+    false_disc = sum(1 for c, r in nulls if r["verdict"] != "none")
+    sig_null = sum(sum(1 for e in r["effects"] if e["significant"]) for c, r in nulls)
+    for c, r in results:
+        b = r["baseline"]
+        oracle = 1 - b["noise_rmse_m"] / b["holdout_rmse_m"] if b["holdout_rmse_m"] > 0 else 0.0
+        eff = {e["name"]: e for e in r["effects"]}
+        row = {"case": c["name"], "truth": "+".join(c["truth"]) or "none",
+               "strength": ",".join("%g" % v for v in c["strength"].values()), "verdict": r["verdict"],
+               "baseline_holdout_cm": 100 * b["holdout_rmse_m"], "noise_cm": 100 * b["noise_rmse_m"],
+               "oracle_shrink": oracle, "seconds": r.get("timings", {}).get("total_s", 0.0),
+               "significant": [e["name"] for e in r["effects"] if e["significant"]]}
+        if len(c["truth"]) == 1:
+            e = eff[c["truth"][0]]
+            row["true_shrink"] = e["shrink"]
+            row["shrink_vs_oracle"] = e["shrink"] / oracle if oracle > 0 else float("nan")
+            row["fitted_strength"] = strength_of(c["truth"][0], e.get("parameters", {}))
+            row["true_rank"] = [x["name"] for x in r["effects"]].index(c["truth"][0]) + 1
+        rows.append(row)
+    ratios = [x["shrink_vs_oracle"] for x in rows if "shrink_vs_oracle" in x and x["verdict"] == x["truth"]]
+    return {"confusion": conf, "top1": top1, "single_nominal": len(nominal), "null_false": false_disc,
+            "nulls": len(nulls), "significant_effects_on_null": sig_null, "rows": rows,
+            "median_shrink_vs_oracle_when_right": sorted(ratios)[len(ratios) // 2] if ratios else None}
+
+
+def markdown(s):
+    labels = EFFECTS + ["none", "unexplained"]
+    short = {"pitch_damping": "pd", "downwash": "dw", "finite_span": "fs", "fuselage_drag": "fd",
+             "ground_effect": "ge", "launch_rotation": "lr", "added_mass": "am", "wind": "wi", "camera": "ca",
+             "none": "none", "unexplained": "unexpl"}
+    out = "Confusion matrix (rows: truth, strength 1 and null; columns: verdict)\n\n"
+    out += "| truth \\ verdict | " + " | ".join(short[l] for l in labels) + " |\n|---|" + "---|" * len(labels) + "\n"
+    for t, row in s["confusion"].items():
+        out += "| %s | " % t + " | ".join(str(row[l]) if row[l] else "." for l in labels) + " |\n"
+    out += "\nTop-1 attribution at strength 1: %d of %d; null datasets with a false discovery: %d of %d " \
+           "(significant effects on null data: %d)\n\n" % (s["top1"], s["single_nominal"], s["null_false"], s["nulls"],
+                                                           s["significant_effects_on_null"])
+    out += "| case | truth | strength | verdict | true effect's rank | baseline held-out | noise floor | " \
+           "oracle shrink | true effect's shrink | / oracle | fitted strength | time |\n|" + "---|" * 12 + "\n"
+    for r in s["rows"]:
+        fs = r.get("fitted_strength", "")
+        if isinstance(fs, (list, tuple)):
+            fs = "%.2f, %.2f" % tuple(fs)
+        elif fs != "":
+            fs = "%.2f" % fs
+        out += "| %s | %s | %s | %s | %s | %.2f cm | %.2f cm | %.1f %% | %s | %s | %s | %.0f s |\n" % (
+            r["case"], r["truth"], r["strength"], r["verdict"], r.get("true_rank", ""), r["baseline_holdout_cm"],
+            r["noise_cm"], 100 * r["oracle_shrink"],
+            "%.1f %%" % (100 * r["true_shrink"]) if "true_shrink" in r else "",
+            "%.2f" % r["shrink_vs_oracle"] if "shrink_vs_oracle" in r else "", fs, r["seconds"])
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "blind"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    gl_dir = os.path.join(args.out, "gliders")
+    os.makedirs(gl_dir, exist_ok=True)
+    for g in GLIDERS:
+        src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
+        dst = os.path.join(gl_dir, g + ".glider.json")
+        if not os.path.isfile(dst):
+            with open(src) as f, open(dst, "w") as o:
+                o.write(f.read())
+    results = []
+    with cf.ThreadPoolExecutor(args.jobs) as ex:
+        futs = [ex.submit(one, c, args, gl_dir) for c in cases(args.quick)]
+        for fu in cf.as_completed(futs):
+            try:
+                c, r = fu.result()
+            except Exception as e:  # keep going; the summary says what ran
+                print("FAILED: %s" % e, file=sys.stderr, flush=True)
+                continue
+            results.append((c, r))
+            print("%-28s truth %-28s verdict %-16s (%.0f s)" % (c["name"], "+".join(c["truth"]) or "none",
+                                                                r["verdict"], r["timings"].get("total_s", 0)),
+                  file=sys.stderr, flush=True)
+    results.sort(key=lambda cr: cr[0]["name"])
+    s = summarise(results)
+    with open(os.path.join(args.out, "summary.json"), "w") as f:
+        json.dump(s, f, indent=1)
+    md = markdown(s)
+    with open(os.path.join(args.out, "summary.md"), "w") as f:
+        f.write(md)
+    print(md)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,254 @@
+// pteromys diagnose: where and why the simulation and tracked flights
+// disagree (issue 7; spec/formats.md "Diagnosis result"; docs/diagnosis.md).
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "common.hpp"
+#include "pteromys/dataset.hpp"
+#include "pteromys/diagnose.hpp"
+#include "pteromys/io.hpp"
+#include "pteromys/version.hpp"
+
+namespace pteromys::cli {
+namespace {
+
+int whole(const Args& a, const std::string& key, int def, int lo, int hi) {
+  const double v = a.number(key, def);
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw InputError(key + " must be a whole number between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return static_cast<int>(v);
+}
+
+std::vector<Effect> parse_effect_list(const std::string& s) {
+  std::vector<Effect> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (item.empty()) continue;
+    out.push_back(effect_from_name(item));
+  }
+  if (out.empty()) throw InputError("--effects needs at least one effect name");
+  return out;
+}
+
+bool exists(const std::string& p) {
+  struct stat st {};
+  return stat(p.c_str(), &st) == 0;
+}
+
+/// Directory of the Python package next to this executable (build tree:
+/// <build>/bin/pteromys -> <build>/python), or "" when there is none.
+std::string python_dir() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return "";
+  buf[n] = 0;
+  const std::filesystem::path exe(buf);
+  const auto cand = exe.parent_path().parent_path() / "python";
+  if (exists((cand / "pteromys" / "diagnose_report.py").string())) return cand.string();
+  return "";
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'') q += "'\\''";
+    else q += c;
+  }
+  return q + "'";
+}
+
+/// Renders the report (HTML and PNG plots, pteromys.diagnose_report under
+/// Debian's Python) into a temporary directory beside `dir` and renames it
+/// into place; nothing is left behind on failure.
+void write_report(const std::string& json_path, const std::string& dir, bool quiet) {
+  const std::string tmp = dir + ".tmp-" + std::to_string(getpid());
+  std::error_code ec;
+  std::filesystem::remove_all(tmp, ec);
+  if (mkdir(tmp.c_str(), 0777) != 0) throw InputError("cannot create directory '" + tmp + "'");
+  std::string env;
+  const std::string py = python_dir();
+  if (!py.empty()) {
+    const char* old = std::getenv("PYTHONPATH");
+    env = "PYTHONPATH=" + quote(py + (old && *old ? std::string(":") + old : std::string())) + " ";
+  }
+  const std::string cmd = env + "MPLBACKEND=Agg /usr/bin/python3 -m pteromys.diagnose_report " + quote(json_path) +
+                          " " + quote(tmp) + (quiet ? " --quiet" : "") + " 1>&2";
+  const int rc = std::system(cmd.c_str());
+  if (rc != 0 || !exists(tmp + "/index.html")) {
+    std::filesystem::remove_all(tmp, ec);
+    throw std::runtime_error("the report could not be rendered (python3 -m pteromys.diagnose_report failed; "
+                             "matplotlib and the pteromys module are needed)");
+  }
+  if (exists(dir)) {
+    // Replace an earlier report: move it aside, then remove it.
+    const std::string old = dir + ".old-" + std::to_string(getpid());
+    if (std::rename(dir.c_str(), old.c_str()) != 0) {
+      std::filesystem::remove_all(tmp, ec);
+      throw InputError("cannot replace the existing report directory '" + dir + "'");
+    }
+    std::filesystem::remove_all(old, ec);
+  }
+  if (std::rename(tmp.c_str(), dir.c_str()) != 0) {
+    std::filesystem::remove_all(tmp, ec);
+    throw InputError("cannot rename '" + tmp + "' to '" + dir + "'");
+  }
+}
+
+int run_diagnose(const std::vector<std::string>& argv) {
+  const std::set<std::string> valued = {"--json", "--report", "--model", "--folds", "--effects", "--alpha",
+                                        "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
+                                        "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
+                                        "--iterations", "--worst-flights", "--polish"};
+  const Args a = parse_args(argv, valued, {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test"});
+  if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
+  if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
+  if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
+  if (a.has("--json")) check_writable(a.get("--json"), "diagnosis");
+  if (a.has("--report")) {
+    const std::string r = a.get("--report");
+    if (r.empty()) throw InputError("--report needs a directory");
+    const auto parent = std::filesystem::path(r).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent))
+      throw InputError("cannot write report '" + r + "': directory '" + parent.string() + "' does not exist");
+    if (exists(r) && !std::filesystem::is_directory(r))
+      throw InputError("cannot write report '" + r + "': it exists and is not a directory");
+  }
+
+  DiagnoseOptions o;
+  o.folds = whole(a, "--folds", o.folds, 2, 1000);
+  if (a.has("--effects")) o.effects = parse_effect_list(a.get("--effects"));
+  o.trim = !a.flag("--no-trim");
+  o.full_fit = !a.flag("--no-full-fit");
+  o.holdout_chi2_test = !a.flag("--no-holdout-test");
+  o.alpha = a.number("--alpha", o.alpha);
+  if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
+  o.min_shrink = a.number("--min-shrink", o.min_shrink);
+  if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("--min-shrink must be in [0, 1)");
+  o.none_tolerance = a.number("--none-tolerance", o.none_tolerance);
+  if (!(o.none_tolerance >= 0) || !std::isfinite(o.none_tolerance)) throw InputError("--none-tolerance must not be negative");
+  o.fit.max_centres = whole(a, "--max-centres", o.fit.max_centres, 1, 200);
+  o.threads = whole(a, "--threads", 0, 0, 256);
+  o.sim.ground_y = a.number("--ground-y", 0.0);
+  if (!std::isfinite(o.sim.ground_y)) throw InputError("--ground-y must be a number");
+  o.sim.dt = a.number("--dt", o.sim.dt);
+  if (!(o.sim.dt > 0) || o.sim.dt > 0.05) throw InputError("--dt must be in (0, 0.05] s");
+  o.sim.aero.dz = a.number("--dz", o.sim.aero.dz);
+  if (!(o.sim.aero.dz > 0) || o.sim.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
+  o.sim.max_iterations = whole(a, "--iterations", o.sim.max_iterations, 1, 1000);
+  o.launch_window_s = a.number("--launch-window", o.launch_window_s);
+  o.near_ground_m = a.number("--near-ground", o.near_ground_m);
+  if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("--launch-window and --near-ground must not be negative");
+  o.worst_flights = whole(a, "--worst-flights", o.worst_flights, 0, 1000);
+  o.polish = whole(a, "--polish", o.polish, 0, 100);
+  if (a.has("--model")) {
+    const auto m = load_model(a.get("--model"));
+    if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;
+    else if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(m)) o.fit.prior = fp->params();
+    else throw InputError("--model must be an RBF or flat-plate model file");
+  } else if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(default_model())) {
+    o.fit.prior = fp->params();
+  }
+
+  const std::string path = a.positional[0];
+  const Dataset d = load_dataset(path);
+  const bool quiet = a.flag("--quiet");
+  if (!quiet)
+    std::cerr << "pteromys diagnose: " << d.flights.size() << " flights of " << d.gliders.size() << " gliders, "
+              << o.effects.size() << " candidate effects, " << o.folds << " folds\n";
+  const DiagnoseCallback progress = [quiet](const DiagnoseProgress& p) {
+    if (quiet) return;
+    char head[64];
+    std::snprintf(head, sizeof head, "[%7.1f s] (%d/%d) ", p.elapsed_s, p.step, p.steps);
+    std::cerr << head << p.message << "\n";
+  };
+  const DiagnoseResult r = diagnose(d, o, progress);
+  nlohmann::json j = diagnosis_json(r, o);
+  j["dataset"]["path"] = path;
+  j["pteromys_version"] = kVersion;
+  const std::string text = j.dump(1) + "\n";
+  std::string json_path = a.get("--json");
+  if (!json_path.empty()) write_file_atomic(json_path, text);
+  if (a.has("--report")) {
+    std::string src = json_path;
+    std::string scratch;
+    if (src.empty()) {
+      scratch = a.get("--report") + ".json.tmp-" + std::to_string(getpid());
+      write_file_atomic(scratch, text);
+      src = scratch;
+    }
+    try {
+      write_report(src, a.get("--report"), quiet);
+    } catch (...) {
+      if (!scratch.empty()) std::remove(scratch.c_str());
+      throw;
+    }
+    if (!scratch.empty()) std::remove(scratch.c_str());
+  }
+  if (!quiet) {
+    std::cout << "verdict: " << r.verdict << "\n" << r.summary << "\n";
+    std::cout << "baseline: fit RMSE " << r.fit_rmse_m << " m, held-out RMSE " << r.holdout_rmse_m << " m (noise alone "
+              << r.noise_rmse_m << " m); " << r.seconds << " s\n";
+    for (const auto& e : r.effects)
+      std::printf("  %-16s held-out %.4f m  shrink %6.1f %%  %s\n", e.name.c_str(), e.holdout_rmse_m, 100 * e.shrink,
+                  e.significant ? "significant" : "");
+    if (a.has("--report")) std::cout << "report: " << a.get("--report") << "/index.html\n";
+  }
+  return 0;
+}
+
+const bool registered_diagnose = register_command(
+    70, {"diagnose", 0, "sim-to-real gap: where the model misses, which effect explains it",
+         "usage: pteromys diagnose DATASET.json --json OUT.json [--report DIR] [options]\n\n"
+         "Fits the wing-element model (coefficients, launches, a build-trim error per glider)\n"
+         "to tracked flights and measures it on held-out gliders (leave-gliders-out\n"
+         "cross-validation); shows where the misfit lies (flight phase, glider and geometry,\n"
+         "flight state, whiteness of the residuals); refits every candidate effect of the\n"
+         "library -- pitch_damping, downwash, finite_span, fuselage_drag, ground_effect,\n"
+         "launch_rotation, added_mass, wind, camera -- as a small parametric correction of\n"
+         "the model, and tests which one explains the gap (likelihood ratio against the\n"
+         "known tracking noise with Holm's correction, confirmed on held-out gliders).\n"
+         "Writes the result (format pteromys-diagnosis/1: baseline, effects sorted best\n"
+         "first with holdout_rmse_m, shrink, significant; verdict = an effect, none or\n"
+         "unexplained) and, with --report, DIR/index.html with plots. Needs flights of at\n"
+         "least 3 gliders. Progress goes to stderr. See docs/diagnosis.md.\n\n"
+         "options:\n"
+         "  --json OUT.json         diagnosis result\n"
+         "  --report DIR            readable report (index.html and PNG plots; needs python3\n"
+         "                          with matplotlib and the pteromys module)\n"
+         "  --model MODEL.json      RBF model the coefficient fits start from, or a flat-plate\n"
+         "                          model to use as their prior (default: the shipped model)\n"
+         "  --folds K               leave-gliders-out folds (default 4)\n"
+         "  --effects A,B,...       candidates to test (default: the whole library)\n"
+         "  --no-trim               no build-trim error per glider\n"
+         "  --alpha A               family-wise level of the likelihood-ratio tests (default 0.01)\n"
+         "  --min-shrink F          held-out RMSE must fall by this fraction (default 0.02)\n"
+         "  --no-holdout-test       do not require the held-out chi-square confirmation\n"
+         "  --none-tolerance T      'none' when the held-out chi-square ratio is <= 1 + T\n"
+         "                          (default 0.3)\n"
+         "  --max-centres N         RBF centres of the baseline fits (default 10)\n"
+         "  --ground-y Y            dataset y of the ground [m] (default 0)\n"
+         "  --launch-window S       launch phase: first S seconds tracked (default 0.25)\n"
+         "  --near-ground M         near-ground phase: below M metres (default 0.3)\n"
+         "  --iterations N          solver iterations per effect fit (default 8)\n"
+         "  --polish N              refit the N most promising candidates jointly with the RBF\n"
+         "                          centre values (default 0 = coefficients fixed; see docs)\n"
+         "  --no-full-fit           skip the fit to all gliders (faster; LR tests from the folds)\n"
+         "  --worst-flights N       flights shown before/after in the report (default 6)\n"
+         "  --threads N             worker threads (default: all cores)\n"
+         "  --dt S                  simulation step [s] (default 0.002)\n"
+         "  --dz M                  wing-element spacing [m] (default 0.005)\n"
+         "  --quiet                 no progress\n",
+         run_diagnose});
+
+}  // namespace
+}  // namespace pteromys::cli

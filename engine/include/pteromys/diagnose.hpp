@@ -1,0 +1,182 @@
+// Sim-to-real gap diagnosis (issue 7; spec/formats.md "Diagnosis result";
+// docs/diagnosis.md).
+//
+// Given tracked flights of several gliders:
+//  1. Baseline: the wing-element model's coefficients (fit_coefficients), each
+//     flight's launch and each glider's build-trim error are fitted on
+//     training gliders; held-out gliders are predicted (leave-gliders-out
+//     cross-validation over K folds of gliders): coefficients and effect
+//     strengths come from the training gliders only, while a held-out
+//     flight's launch and its glider's trim -- nuisance values that exist per
+//     flight and per glider -- are fitted to its own points.
+//  2. Where the gap lies: held-out residuals by flight phase, glider and
+//     geometry feature, flight state; whiteness against the tracking noise.
+//  3. Which effect: every candidate of the library (effects.hpp) is refitted
+//     (its 1-2 strengths with launches and trims, coefficients fixed at the
+//     baseline's) on the training gliders of every fold and on all gliders;
+//     held-out error, shrink, fitted strength; significance by a partial
+//     likelihood-ratio (F-type) test against the known tracking noise with
+//     Holm's correction over the library, confirmed on held-out gliders;
+//     collinearity of each effect with re-tuned coefficients.
+//  4. Verdict: the significant effect with the largest shrink, "none" when
+//     the baseline's held-out residuals are consistent with the noise, or
+//     "unexplained".
+//
+// Units SI, angles in radians (degrees in the JSON where the key says so).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "pteromys/dataset.hpp"
+#include "pteromys/diagnose_fit.hpp"
+#include "pteromys/effects.hpp"
+#include "pteromys/fit.hpp"
+
+namespace pteromys {
+
+struct DiagnoseOptions {
+  /// Leave-gliders-out folds: gliders are sorted by their main wing's aspect
+  /// ratio and dealt round-robin into min(folds, gliders) folds, so that each
+  /// fold spans the range of shapes. Needs flights of at least 3 gliders.
+  int folds = 4;
+  /// Candidates to test (default: the whole library, spec order).
+  std::vector<Effect> effects = all_effects();
+  /// Fit a build-trim error (mounting-angle offset of the trim wing, see
+  /// GliderFeatures::trim_wing) per glider, on training and held-out gliders.
+  bool trim = true;
+  /// Baseline coefficient fit (greedy centres; threads are taken from `threads`).
+  FitOptions fit;
+  /// Model the coefficient fits start from (warm start; null: the flat-plate prior).
+  std::shared_ptr<const RbfModel> start;
+  DiagFitOptions sim;             ///< simulation step, ground height, solver iterations, threads
+  /// Family-wise level of the likelihood-ratio tests over the library (Holm).
+  double alpha = 0.01;
+  /// Cross-validation margin: a significant effect must also lower the
+  /// held-out RMSE by at least this fraction ...
+  double min_shrink = 0.02;
+  /// ... and its held-out improvement in noise units, (SSE_0 - SSE_e) / sigma_eff^2,
+  /// must exceed the chi-square quantile of its parameter count at level alpha / m.
+  bool holdout_chi2_test = true;
+  /// "none" when no effect is significant and the baseline's held-out
+  /// chi-square ratio (SSE / (sigma^2 dof)) is at most 1 + this.
+  double none_tolerance = 0.3;
+  /// Collinearity (squared canonical correlation) with re-tuned coefficients
+  /// and trims above which an effect is "indistinguishable from coefficients".
+  double collinearity_limit = 0.95;
+  /// Phases of a flight (docs/diagnosis.md): "launch" = the first
+  /// launch_window_s after the first tracked point, "near_ground" = height
+  /// above the ground below near_ground_m, "glide" = the rest.
+  double launch_window_s = 0.25;
+  double near_ground_m = 0.3;
+  int worst_flights = 6;          ///< flights kept for the report's before/after plots
+  bool full_fit = true;           ///< also fit every model on all gliders (fit RMSE, strengths, LR tests)
+  /// Joint refit with the coefficients: the baseline's RBF centre values are
+  /// re-tuned by the same least squares as the effects (the "polished"
+  /// baseline every effect is compared with), and the `polish` candidates
+  /// that lower the training error most with fixed coefficients are refitted
+  /// jointly with the centre values (their strength is then not biased by
+  /// coefficients that absorbed part of the effect). 0 = fixed coefficients.
+  int polish = 0;
+  int threads = 0;                ///< 0 = all cores
+};
+
+struct DiagnoseProgress {
+  std::string stage;      ///< "baseline", "effect", "fold", "analysis", "done"
+  int step = 0, steps = 0;
+  double elapsed_s = 0;
+  std::string message;    ///< one line for a person
+};
+using DiagnoseCallback = std::function<void(const DiagnoseProgress&)>;
+
+/// One candidate effect's result.
+struct EffectResult {
+  Effect effect = Effect::PitchDamping;
+  std::string name;
+  double holdout_rmse_m = 0;    ///< over every held-out point (each glider held out once) [m]
+  double shrink = 0;            ///< 1 - holdout_rmse_m / baseline holdout_rmse_m
+  bool significant = false;
+  double fit_rmse_m = 0;        ///< fitted to all gliders [m]
+  std::vector<double> parameters;               ///< fitted to all gliders (internal units, effect_spec order)
+  std::vector<std::vector<double>> fold_parameters;  ///< per fold (training gliders)
+  // Likelihood-ratio test on all gliders (partial F-type: sigma_eff^2 = max(sigma^2, SSE_e / dof_e)).
+  double delta_chi2 = 0;
+  double p_value = 1;
+  double holm_level = 0;        ///< the level its p-value was compared with
+  bool lr_pass = false;
+  // Cross-validation.
+  double holdout_delta_chi2 = 0;   ///< (SSE_0 - SSE_e) / sigma_ho_eff^2 over held-out points
+  double holdout_threshold = 0;    ///< chi-square quantile it must exceed
+  int gliders_improved = 0, gliders_total = 0;
+  double glider_t = 0;             ///< paired t statistic of per-glider held-out improvements
+  // Identifiability.
+  double coefficient_collinearity = 0;   ///< R^2 of its signature on re-tuned coefficients (and trims), 0..1
+  bool indistinguishable = false;
+  std::vector<std::pair<std::string, double>> confusable;  ///< other effects with |cos| > 0.8 of signatures
+  std::string note;                ///< plain words
+};
+
+/// Per-flight outcome of the cross-validation (the flight's glider held out).
+struct HeldOutFlight {
+  int flight = -1;
+  int fold = 0;
+  FlightOutcome baseline;
+  std::vector<FlightOutcome> effects;  ///< per candidate (DiagnoseOptions::effects order)
+};
+
+struct DiagnoseResult {
+  double sigma_m = 0;            ///< tracking noise per coordinate [m]
+  int gliders = 0, flights = 0, points = 0, folds = 0;
+  std::vector<std::vector<std::string>> fold_gliders;
+  double fit_rmse_m = 0;         ///< baseline fitted to all gliders [m]
+  double holdout_rmse_m = 0;     ///< baseline over held-out points [m]
+  double fit_chi2_ratio = 0;     ///< SSE / (sigma^2 dof), all gliders
+  double holdout_chi2_ratio = 0; ///< SSE / (sigma^2 dof), held-out (dof: 2 points - 5 per flight - trims)
+  double noise_rmse_m = 0;       ///< held-out RMSE expected from tracking noise alone [m]
+  std::vector<EffectResult> effects;  ///< sorted best first: by held-out RMSE
+  std::string verdict;           ///< effect name, "none" or "unexplained"
+  std::string summary;           ///< plain-language summary
+  nlohmann::json where;          ///< where the gap lies (phases, gliders, features, states, whiteness)
+  nlohmann::json report;         ///< data of the report's plots (worst flights before/after, per glider)
+  std::vector<HeldOutFlight> heldout;
+  std::shared_ptr<const CoefficientModel> model;  ///< baseline coefficients fitted to all gliders
+  std::vector<double> trim;      ///< per glider (DiagnosisData order) [rad]
+  std::vector<std::string> glider_keys;
+  double seconds = 0;
+  nlohmann::json timings;
+};
+
+/// Runs the diagnosis. Throws InputError for unusable input: an invalid
+/// dataset, flights of fewer than 3 gliders (leave-gliders-out needs
+/// training and held-out gliders), unknown or repeated candidates, bad options.
+DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o = {}, const DiagnoseCallback& progress = {});
+
+/// The result as JSON, format "pteromys-diagnosis/1" (spec keys: baseline
+/// {fit_rmse_m, holdout_rmse_m}, effects [{name, holdout_rmse_m, shrink,
+/// significant}], verdict) plus summary, where, effects' parameters and
+/// tests, folds, report data and timings.
+nlohmann::json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o);
+
+/// Where the gap lies (docs/diagnosis.md): the residuals of `flights`
+/// (outcomes of one model, e.g. the baseline's held-out flights) by phase,
+/// glider and geometry feature, flight state (alpha, pitch rate, height) and
+/// their whiteness against tracking noise of `sigma` [m] per coordinate; with
+/// `after` (the same flights under a corrected model, same order) also the
+/// RMSE after the correction in every group. Points are expected to carry
+/// 2 sigma^2 (1 - 5 / (2 n)) of squared error from noise alone (n points in
+/// the flight, 5 launch values fitted to them).
+nlohmann::json gap_analysis(const DiagnosisData& D, const std::vector<const FlightOutcome*>& flights,
+                            const std::vector<const FlightOutcome*>& after, const DiagnoseOptions& o,
+                            double sigma);
+
+/// Upper tail probability of the chi-square distribution with k degrees of
+/// freedom: P(X > x) (regularised incomplete gamma Q(k/2, x/2)).
+double chi2_sf(double x, double k);
+/// Quantile: the x with chi2_sf(x, k) = p (0 < p < 1).
+double chi2_isf(double p, double k);
+
+}  // namespace pteromys

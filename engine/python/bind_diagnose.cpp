@@ -1,0 +1,291 @@
+// Bindings: the sim-to-real diagnosis (diagnose.hpp) and its candidate effects
+// (effects.hpp). The Python wrappers with keyword documentation are in
+// pteromys/diagnose.py.
+#include <pybind11/functional.h>
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "pteromys/dataset.hpp"
+#include "pteromys/diagnose.hpp"
+#include "pteromys/effects.hpp"
+#include "pteromys/io.hpp"
+#include "pteromys/mass.hpp"
+
+namespace pteromys::python {
+namespace {
+
+using nlohmann::json;
+
+/// EffectValues from a dict of reported parameters: {"pitch_damping": k, ...,
+/// "launch_rotation": deg/s, "wind": m/s, "camera": [scale_error, roll_deg]}.
+EffectValues values_from(const py::dict& d) {
+  EffectValues v;
+  for (const auto& item : d) {
+    const std::string name = item.first.cast<std::string>();
+    const Effect e = effect_from_name(name);
+    const auto& sp = effect_spec(e);
+    std::vector<double> x;
+    if (py::isinstance<py::list>(item.second) || py::isinstance<py::tuple>(item.second)) x = item.second.cast<std::vector<double>>();
+    else x.push_back(item.second.cast<double>());
+    if (x.size() != sp.parameters.size())
+      throw InputError("effect '" + name + "' takes " + std::to_string(sp.parameters.size()) + " value(s)");
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (!std::isfinite(x[i])) throw InputError("effect values must be finite numbers");
+      v.at(e, static_cast<int>(i)) = x[i] / sp.parameters[i].to_report;
+    }
+  }
+  return v;
+}
+
+py::dict values_to(const EffectValues& v) {
+  py::dict d;
+  for (Effect e : all_effects()) {
+    const auto& sp = effect_spec(e);
+    if (sp.parameters.size() == 1) d[sp.name.c_str()] = v.at(e, 0) * sp.parameters[0].to_report;
+    else {
+      py::list l;
+      for (std::size_t i = 0; i < sp.parameters.size(); ++i) l.append(v.at(e, static_cast<int>(i)) * sp.parameters[i].to_report);
+      d[sp.name.c_str()] = l;
+    }
+  }
+  return d;
+}
+
+json features_json(const GliderFeatures& f) {
+  json w = json::array();
+  for (const auto& x : f.wings)
+    w.push_back({{"area_m2", x.area}, {"span_m", x.span}, {"aspect_ratio", x.aspect_ratio},
+                 {"mean_chord_m", x.mean_chord}, {"theta_deg", rad2deg(x.theta)},
+                 {"quarter_chord_m", {x.quarter_chord.x, x.quarter_chord.y}},
+                 {"three_quarter_chord_m", {x.three_quarter_chord.x, x.three_quarter_chord.y}},
+                 {"mid_chord_m", {x.mid_chord.x, x.mid_chord.y}},
+                 {"apparent_mass_m3", x.apparent_mass}, {"apparent_inertia_m5", x.apparent_inertia}});
+  return {{"mass_kg", f.mass}, {"inertia_kg_m2", f.inertia}, {"cg_m", {f.cg.x, f.cg.y}}, {"wings", w},
+          {"main_wing", f.main_wing}, {"trim_wing", f.trim_wing}, {"span_m", f.span},
+          {"fuselage_area_m2", f.fuselage_area}, {"fuselage_length_m", f.fuselage_length},
+          {"fuselage_centroid_m", {f.fuselage_centroid.x, f.fuselage_centroid.y}},
+          {"main_aspect_ratio", f.main_aspect_ratio}, {"tail_aspect_ratio", f.tail_aspect_ratio},
+          {"tail_arm_m", f.tail_arm}, {"tail_volume", f.tail_volume}, {"wing_loading_n_m2", f.wing_loading},
+          {"fuselage_ratio", f.fuselage_ratio}};
+}
+
+DiagnoseOptions options_from(const py::dict& kw) {
+  DiagnoseOptions o;
+  auto num = [&](const char* k, double def) { return kw.contains(k) && !kw[k].is_none() ? kw[k].cast<double>() : def; };
+  auto whole = [&](const char* k, int def, int lo, int hi) {
+    const double v = num(k, def);
+    if (v != std::floor(v) || v < lo || v > hi)
+      throw InputError(std::string(k) + " must be a whole number between " + std::to_string(lo) + " and " +
+                       std::to_string(hi));
+    return static_cast<int>(v);
+  };
+  o.folds = whole("folds", o.folds, 2, 1000);
+  if (kw.contains("effects") && !kw["effects"].is_none()) {
+    o.effects.clear();
+    for (const auto& n : kw["effects"].cast<std::vector<std::string>>()) o.effects.push_back(effect_from_name(n));
+  }
+  if (kw.contains("trim")) o.trim = kw["trim"].cast<bool>();
+  if (kw.contains("full_fit")) o.full_fit = kw["full_fit"].cast<bool>();
+  if (kw.contains("holdout_chi2_test")) o.holdout_chi2_test = kw["holdout_chi2_test"].cast<bool>();
+  o.alpha = num("alpha", o.alpha);
+  o.min_shrink = num("min_shrink", o.min_shrink);
+  o.none_tolerance = num("none_tolerance", o.none_tolerance);
+  o.collinearity_limit = num("collinearity_limit", o.collinearity_limit);
+  o.fit.max_centres = whole("max_centres", o.fit.max_centres, 1, 200);
+  o.polish = whole("polish", o.polish, 0, 100);
+  o.threads = whole("threads", 0, 0, 256);
+  o.sim.ground_y = num("ground_y", 0.0);
+  o.sim.dt = num("dt", o.sim.dt);
+  o.sim.max_iterations = whole("iterations", o.sim.max_iterations, 1, 1000);
+  o.launch_window_s = num("launch_window_s", o.launch_window_s);
+  o.near_ground_m = num("near_ground_m", o.near_ground_m);
+  o.worst_flights = whole("worst_flights", o.worst_flights, 0, 1000);
+  if (!(o.sim.dt > 0) || o.sim.dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
+  if (kw.contains("model") && !kw["model"].is_none()) {
+    const ModelPtr m = to_model(kw["model"]);
+    if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;
+    else if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(m)) o.fit.prior = fp->params();
+    else throw InputError("model must be an RBF or flat-plate model");
+  } else if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(default_model())) {
+    o.fit.prior = fp->params();
+  }
+  return o;
+}
+
+void bind_diagnose(py::module_& m) {
+  m.def("_effect_specs", []() {
+    json out = json::array();
+    for (Effect e : all_effects()) {
+      const auto& s = effect_spec(e);
+      json p = json::array();
+      for (const auto& x : s.parameters)
+        p.push_back({{"name", x.name}, {"scale", x.scale * x.to_report}, {"lower", x.lower * x.to_report},
+                     {"upper", x.upper * x.to_report}});
+      const char* lv[] = {"aerodynamic", "launch", "session", "observation"};
+      out.push_back({{"name", s.name}, {"description", s.description}, {"level", lv[static_cast<int>(s.level)]},
+                     {"parameters", p}});
+    }
+    return out.dump();
+  });
+
+  m.def("_glider_features", [](const py::object& go, double dz) {
+    const Glider g = to_glider(go);
+    validate(g);
+    return features_json(glider_features(g, dz)).dump();
+  }, py::arg("glider"), py::arg("dz") = 0.005);
+
+  m.def("_effect_wrench", [](const py::object& go, const py::object& model, const py::dict& values,
+                             const py::dict& state, double height_origin, double dz) {
+    const Glider g = to_glider(go);
+    validate(g);
+    AeroOptions ao;
+    ao.dz = dz;
+    const ModelPtr mp = to_model(model);
+    const MountedGlider mg = mount(g, mp, {}, ao);
+    const GliderFeatures f = glider_features(g, dz);
+    const EffectAero ea(mg, f, values_from(values), height_origin);
+    auto get = [&](const char* k, double def) { return state.contains(k) ? state[k].cast<double>() : def; };
+    FlightState s;
+    s.p = {get("x_m", 0), get("y_m", 1.5)};
+    s.v = {get("vx_m_s", 8), get("vy_m_s", 0)};
+    s.beta = deg2rad(get("pitch_deg", 0));
+    s.omega = deg2rad(get("pitch_rate_deg_s", 0));
+    const Wrench w = ea.evaluate(s);
+    const AddedMass am = ea.added_mass(s);
+    py::dict out;
+    out["force_n"] = py::make_tuple(w.force.x, w.force.y);
+    out["moment_n_m"] = w.moment;
+    out["max_alpha_deg"] = rad2deg(ea.max_alpha(s));
+    py::list M, bias;
+    for (int i = 0; i < 3; ++i) {
+      M.append(py::make_tuple(am.m[i][0], am.m[i][1], am.m[i][2]));
+      bias.append(am.bias[i]);
+    }
+    out["added_mass"] = M;
+    out["added_mass_bias"] = bias;
+    py::list flows;
+    for (const auto& x : ea.wing_flows(s)) {
+      py::dict d;
+      d["speed_m_s"] = x.speed;
+      d["alpha_deg"] = rad2deg(x.alpha);
+      d["cl"] = x.cl;
+      flows.append(d);
+    }
+    out["wings"] = flows;
+    return out;
+  }, py::arg("glider"), py::arg("model"), py::arg("values"), py::arg("state"), py::arg("height_origin") = 0.0,
+     py::arg("dz") = 0.005);
+
+  m.def("_diagnosis_fit", [](const std::string& dataset, const py::object& model, const py::dict& values,
+                             const std::vector<std::string>& free_names, const py::object& flights, bool warm_baseline,
+                             double dt, int iterations, int threads) {
+    const Dataset d = load_dataset(dataset);
+    DiagFitOptions fo;
+    fo.dt = dt;
+    fo.threads = threads;
+    fo.max_iterations = iterations;
+    const DiagnosisData D(d, fo);
+    std::vector<int> fl;
+    if (flights.is_none()) {
+      for (std::size_t i = 0; i < d.flights.size(); ++i) fl.push_back(static_cast<int>(i));
+    } else {
+      const auto names = flights.cast<std::vector<std::string>>();
+      for (const auto& n : names) {
+        int k = -1;
+        for (std::size_t i = 0; i < d.flights.size(); ++i)
+          if (d.flights[i].name == n) k = static_cast<int>(i);
+        if (k < 0) throw InputError("unknown flight '" + n + "'");
+        fl.push_back(k);
+      }
+    }
+    DiagModel start{to_model(model), values_from(values), {}};
+    std::vector<FreeParam> free;
+    for (const auto& n : free_names) {
+      if (n == "trim") {
+        std::set<int> gs;
+        for (int f : fl) gs.insert(D.glider_of(f));
+        for (int g : gs)
+          if (D.gliders()[g].features.trim_wing >= 0) free.push_back(FreeParam::trim(g));
+      } else if (n == "coefficients") {
+        auto rbf = std::dynamic_pointer_cast<const RbfModel>(start.coefficients);
+        if (!rbf) throw InputError("'coefficients' needs an RBF model");
+        for (std::size_t k = 0; k < 3 * rbf->centres().size(); ++k) free.push_back(FreeParam::coefficient(static_cast<int>(k)));
+      } else {
+        const Effect e = effect_from_name(n);
+        for (std::size_t i = 0; i < effect_spec(e).parameters.size(); ++i)
+          free.push_back(FreeParam::effect_param(e, static_cast<int>(i)));
+      }
+    }
+    FitOutcome r;
+    {
+      py::gil_scoped_release nogil;
+      if (warm_baseline) {
+        const FitOutcome b = D.fit({start.coefficients, {}, {}}, fl, {});
+        std::vector<LaunchParams> L;
+        for (const auto& x : b.flights) L.push_back(x.launch);
+        r = D.fit(start, fl, free, &L);
+      } else {
+        r = D.fit(start, fl, free);
+      }
+    }
+    py::dict out;
+    out["sse_m2"] = r.sse;
+    out["rmse_m"] = r.rmse();
+    out["points"] = r.points;
+    out["iterations"] = r.iterations;
+    out["simulations"] = r.simulations;
+    out["effects"] = values_to(r.model.effects);
+    py::dict trims;
+    for (std::size_t g = 0; g < D.gliders().size() && g < r.model.trim.size(); ++g)
+      trims[D.gliders()[g].key.c_str()] = rad2deg(r.model.trim[g]);
+    out["trim_deg"] = trims;
+    py::list pf;
+    for (const auto& x : r.flights) {
+      py::dict f;
+      f["flight"] = d.flights[x.flight].name;
+      f["sse_m2"] = x.sse;
+      f["points"] = static_cast<int>(x.residual.size());
+      py::list res;
+      for (const auto& v : x.residual) res.append(py::make_tuple(v.x, v.y));
+      f["residual_m"] = res;
+      pf.append(f);
+    }
+    out["flights"] = pf;
+    out["model"] = mut(r.model.coefficients);
+    return out;
+  }, py::arg("dataset"), py::arg("model"), py::arg("values"), py::arg("free"), py::arg("flights") = py::none(),
+     py::arg("warm_baseline") = true, py::arg("dt") = 0.002, py::arg("iterations") = 8, py::arg("threads") = 0);
+
+  m.def("_diagnose", [](const std::string& dataset, const py::dict& kw, const py::object& progress) {
+    const Dataset d = load_dataset(dataset);
+    const DiagnoseOptions o = options_from(kw);
+    DiagnoseCallback cb;
+    if (!progress.is_none())
+      cb = [progress](const DiagnoseProgress& p) {
+        py::gil_scoped_acquire gil;
+        py::dict x;
+        x["stage"] = p.stage;
+        x["step"] = p.step;
+        x["steps"] = p.steps;
+        x["elapsed_s"] = p.elapsed_s;
+        x["message"] = p.message;
+        progress(x);
+      };
+    DiagnoseResult r;
+    {
+      py::gil_scoped_release nogil;
+      r = diagnose(d, o, cb);
+    }
+    json j = diagnosis_json(r, o);
+    j["dataset"]["path"] = dataset;
+    return j.dump();
+  }, py::arg("dataset"), py::arg("options"), py::arg("progress") = py::none());
+
+  m.def("_chi2_sf", &chi2_sf, py::arg("x"), py::arg("k"));
+  m.def("_chi2_isf", &chi2_isf, py::arg("p"), py::arg("k"));
+}
+
+const bool registered = register_binder(70, bind_diagnose);
+
+}  // namespace
+}  // namespace pteromys::python

@@ -1,0 +1,89 @@
+"""Sim-to-real gap diagnosis (issue 7; docs/diagnosis.md).
+
+The engine does the work (``diagnose.hpp``, ``effects.hpp``); these wrappers
+turn its JSON into dicts. A dataset is a ``dataset.json`` file (spec/formats.md,
+"Flight dataset"); the result has the format ``pteromys-diagnosis/1``
+(spec/formats.md, "Diagnosis result").
+
+    import pteromys
+    result = pteromys.diagnose("flights/dataset.json", progress=lambda p: print(p["message"]))
+    print(result["verdict"], result["effects"][0])
+    pteromys.diagnosis_report(result, "report_dir")     # index.html with plots
+"""
+import json as _json
+
+from . import _core
+
+__all__ = ["diagnose", "diagnosis_report", "effect_library", "glider_features", "effect_wrench", "diagnosis_fit",
+           "chi2_sf", "chi2_isf"]
+
+
+def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.02,
+             holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
+             full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
+             worst_flights=6, threads=0, progress=None):
+    """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
+
+    ``effects``: candidate names (default: the whole library, ``effect_library()``).
+    ``model``: an RBF model (or path) the coefficient fits start from, or a
+    flat-plate model used as their prior. ``folds``: leave-gliders-out folds.
+    ``alpha``: family-wise level of the likelihood-ratio tests (Holm).
+    ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
+    The engine runs without the GIL. Returns the result dict
+    (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
+    verdict, summary, where, ...).
+    """
+    opts = dict(folds=folds, effects=list(effects) if effects is not None else None, trim=bool(trim), model=model,
+                alpha=alpha, min_shrink=min_shrink, holdout_chi2_test=bool(holdout_chi2_test),
+                none_tolerance=none_tolerance, collinearity_limit=collinearity_limit, max_centres=max_centres,
+                polish=polish, full_fit=bool(full_fit), iterations=iterations, ground_y=ground_y, dt=dt,
+                launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
+                threads=threads)
+    return _json.loads(_core._diagnose(str(dataset), opts, progress))
+
+
+def diagnosis_report(result, directory, quiet=True):
+    """Write the readable report (``index.html``, ``report.md`` and PNG plots)
+    of a diagnosis result (dict or path of its JSON) into ``directory``.
+    Returns the path of index.html."""
+    from . import diagnose_report
+    if not isinstance(result, dict):
+        with open(result) as f:
+            result = _json.load(f)
+    return diagnose_report.render(result, str(directory), quiet=quiet)
+
+
+def effect_library():
+    """The candidate effects: list of dicts name, description, level, parameters."""
+    return _json.loads(_core._effect_specs())
+
+
+def glider_features(glider, dz=0.005):
+    """Geometry features of a glider as the diagnosis uses them (dict)."""
+    return _json.loads(_core._glider_features(glider, dz))
+
+
+def effect_wrench(glider, values, state=None, model=None, height_origin=0.0, dz=0.005):
+    """Forces of the baseline model corrected by effects ``values`` (dict
+    ``{"pitch_damping": 1.0, "camera": [scale_error, roll_deg], ...}``) in a
+    flight ``state`` (dict x_m, y_m, vx_m_s, vy_m_s, pitch_deg, pitch_rate_deg_s)."""
+    return _core._effect_wrench(glider, model, dict(values), dict(state or {}), height_origin, dz)
+
+
+def diagnosis_fit(dataset, values=None, free=(), model=None, flights=None, warm_baseline=True, dt=0.002,
+                  iterations=8, threads=0):
+    """Fit launches and the ``free`` parameters (effect names, "trim",
+    "coefficients") of a corrected model to a dataset's flights; a dict with
+    sse_m2, rmse_m, effects, trim_deg, flights, model."""
+    return _core._diagnosis_fit(str(dataset), model, dict(values or {}), list(free), flights, warm_baseline, dt,
+                                iterations, threads)
+
+
+def chi2_sf(x, k):
+    """Upper tail probability of the chi-square distribution with k degrees of freedom."""
+    return _core._chi2_sf(x, k)
+
+
+def chi2_isf(p, k):
+    """Chi-square quantile: x with chi2_sf(x, k) = p."""
+    return _core._chi2_isf(p, k)

@@ -1,0 +1,272 @@
+"""Readable report of a diagnosis result (docs/diagnosis.md, "The report").
+
+    python3 -m pteromys.diagnose_report RESULT.json OUTDIR [--quiet]
+
+writes OUTDIR/index.html, OUTDIR/report.md and PNG plots (matplotlib, Agg):
+residuals by flight phase and by glider, the ranked effects, the error along
+the flights, and before/after trajectories of the worst flights. Only the
+result JSON is read (format ``pteromys-diagnosis/1``); nothing is recomputed.
+Files are written into OUTDIR as given; ``pteromys diagnose --report`` renders
+into a temporary directory and renames it into place.
+"""
+import html
+import json
+import os
+import sys
+
+__all__ = ["render"]
+
+_PHASE_WORDS = {"launch": "launch transient", "glide": "glide", "near_ground": "near the ground"}
+
+
+def _cm(v):
+    return "%.1f cm" % (100.0 * float(v))
+
+
+def _pct(v):
+    return "%.0f %%" % (100.0 * float(v))
+
+
+def _plots(r, out):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    files = {}
+    where = r.get("where", {})
+    noise = r["baseline"].get("noise_rmse_m", 0.0)
+    after_name = where.get("compared_with", "")
+
+    # 1. residuals by phase
+    ph = where.get("phases", [])
+    if ph:
+        fig, ax = plt.subplots(figsize=(6, 3.6))
+        names = [_PHASE_WORDS.get(p["phase"], p["phase"]) + "\n(%d points)" % p["points"] for p in ph]
+        x = np.arange(len(ph))
+        ax.bar(x - 0.2, [100 * p["rmse_m"] for p in ph], 0.4, label="baseline", color="#c44e52")
+        if all("rmse_after_m" in p for p in ph):
+            ax.bar(x + 0.2, [100 * p["rmse_after_m"] for p in ph], 0.4, label="with " + after_name, color="#4c72b0")
+        if noise:
+            ax.axhline(100 * noise, color="k", ls="--", lw=1, label="tracking noise alone")
+        ax.set_xticks(x)
+        ax.set_xticklabels(names)
+        ax.set_ylabel("held-out RMS error [cm]")
+        ax.set_title("Residuals by flight phase (held-out gliders)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "phases.png"), dpi=110)
+        plt.close(fig)
+        files["phases"] = "phases.png"
+
+    # 2. residuals by glider
+    gl = where.get("gliders", [])
+    if gl:
+        fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(gl) + 2), 3.8))
+        x = np.arange(len(gl))
+        ax.bar(x - 0.2, [100 * g["rmse_m"] for g in gl], 0.4, label="baseline", color="#c44e52")
+        if all("rmse_after_m" in g for g in gl):
+            ax.bar(x + 0.2, [100 * g["rmse_after_m"] for g in gl], 0.4, label="with " + after_name, color="#4c72b0")
+        if noise:
+            ax.axhline(100 * noise, color="k", ls="--", lw=1, label="tracking noise alone")
+        ax.set_xticks(x)
+        ax.set_xticklabels([g["glider"] for g in gl], rotation=60, ha="right", fontsize=7)
+        ax.set_ylabel("held-out RMS error [cm]")
+        ax.set_title("Residuals by glider (each predicted while held out)")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "gliders.png"), dpi=110)
+        plt.close(fig)
+        files["gliders"] = "gliders.png"
+
+    # 3. ranked effects
+    eff = r.get("effects", [])
+    if eff:
+        fig, ax = plt.subplots(figsize=(6, 0.35 * len(eff) + 1.2))
+        y = np.arange(len(eff))[::-1]
+        colors = ["#55a868" if e["significant"] else "#999999" for e in eff]
+        ax.barh(y, [100 * e["shrink"] for e in eff], color=colors)
+        ax.set_yticks(y)
+        ax.set_yticklabels([e["name"] for e in eff])
+        ax.axvline(0, color="k", lw=0.8)
+        ax.set_xlabel("shrink of the held-out error [%] (green: significant)")
+        ax.set_title("Candidate effects, best first")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "effects.png"), dpi=110)
+        plt.close(fig)
+        files["effects"] = "effects.png"
+
+    # 4. error along the flights
+    pts = where.get("points", {})
+    if pts and pts.get("t_s"):
+        fig, ax = plt.subplots(figsize=(6, 3.6))
+        t = np.asarray(pts["t_s"])
+        ax.plot(t, 100 * np.asarray(pts["error_m"]), ".", ms=3, color="#c44e52", label="baseline", alpha=0.6)
+        if "error_after_m" in pts:
+            ax.plot(t, 100 * np.asarray(pts["error_after_m"]), ".", ms=3, color="#4c72b0",
+                    label="with " + after_name, alpha=0.6)
+        if noise:
+            ax.axhline(100 * noise, color="k", ls="--", lw=1, label="tracking noise alone")
+        ax.set_xlabel("time since the first tracked point [s]")
+        ax.set_ylabel("distance to the tracked point [cm]")
+        ax.set_title("Held-out error along the flights")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "error_vs_time.png"), dpi=110)
+        plt.close(fig)
+        files["error_vs_time"] = "error_vs_time.png"
+
+    # 5. worst flights before / after
+    wf = r.get("report", {}).get("worst_flights", [])
+    if wf:
+        n = len(wf)
+        cols = min(3, n)
+        rows = (n + cols - 1) // cols
+        fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.2 * rows), squeeze=False)
+        for k, f in enumerate(wf):
+            ax = axes[k // cols][k % cols]
+            tr = np.asarray(f["tracked_m"])
+            ax.plot(tr[:, 0], tr[:, 1], "ko", ms=3, label="tracked")
+            b = np.asarray(f["baseline_m"])
+            ax.plot(b[:, 0], b[:, 1], "-", color="#c44e52", label="baseline %s" % _cm(f["baseline_rmse_m"]))
+            if f.get("effect_m"):
+                e = np.asarray(f["effect_m"])
+                ax.plot(e[:, 0], e[:, 1], "-", color="#4c72b0",
+                        label="%s %s" % (r.get("report", {}).get("effect", ""), _cm(f["effect_rmse_m"])))
+            ax.set_title("%s (%s)" % (f["flight"], f["glider"]), fontsize=9)
+            ax.set_aspect("equal", adjustable="datalim")
+            ax.legend(fontsize=7)
+            ax.set_xlabel("x [m]", fontsize=8)
+            ax.set_ylabel("y [m]", fontsize=8)
+        for k in range(n, rows * cols):
+            axes[k // cols][k % cols].axis("off")
+        fig.suptitle("Worst held-out flights: before and after")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "worst_flights.png"), dpi=100)
+        plt.close(fig)
+        files["worst_flights"] = "worst_flights.png"
+    return files
+
+
+def _tables(r):
+    """Rows of the report's tables as lists of strings."""
+    eff_rows = []
+    for e in r.get("effects", []):
+        par = ", ".join("%s %.3g" % (k, v) for k, v in e.get("parameters", {}).items())
+        eff_rows.append([e["name"], _cm(e["holdout_rmse_m"]), _pct(e["shrink"]), "yes" if e["significant"] else "no",
+                         par, "%.2g" % e.get("likelihood_ratio", {}).get("p_value", float("nan")),
+                         "%.0f %%" % (100 * e.get("coefficient_collinearity", 0.0)), e.get("note", "")])
+    phase_rows = []
+    for p in r.get("where", {}).get("phases", []):
+        phase_rows.append([_PHASE_WORDS.get(p["phase"], p["phase"]), str(p["points"]), _cm(p["rmse_m"]),
+                           _cm(p["rmse_after_m"]) if "rmse_after_m" in p else "",
+                           "%.2f" % p["chi2_ratio"], _pct(p.get("excess_share", 0.0))])
+    feat_rows = []
+    for f in r.get("where", {}).get("features", []):
+        feat_rows.append([f["feature"], "%.2f" % f["spearman_rho"], "%.3f" % f["p_value"]])
+    return eff_rows, phase_rows, feat_rows
+
+
+def _md_table(head, rows):
+    s = "| " + " | ".join(head) + " |\n|" + "---|" * len(head) + "\n"
+    for r in rows:
+        s += "| " + " | ".join(x.replace("|", "/") for x in r) + " |\n"
+    return s
+
+
+def _html_table(head, rows):
+    s = "<table><tr>" + "".join("<th>%s</th>" % html.escape(h) for h in head) + "</tr>\n"
+    for r in rows:
+        s += "<tr>" + "".join("<td>%s</td>" % html.escape(x) for x in r) + "</tr>\n"
+    return s + "</table>\n"
+
+
+_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant", "fitted strength", "p (LR)",
+             "collinear with coefficients", "note"]
+_PHASE_HEAD = ["phase", "points", "baseline RMSE", "after", "chi2 ratio", "share of excess"]
+_FEAT_HEAD = ["geometry feature", "Spearman rho (vs glider error)", "p"]
+
+
+def render(r, out, quiet=True):
+    """Write index.html, report.md and the plots of result dict ``r`` into
+    directory ``out`` (created if needed). Returns the path of index.html."""
+    os.makedirs(out, exist_ok=True)
+    files = _plots(r, out)
+    eff_rows, phase_rows, feat_rows = _tables(r)
+    b = r["baseline"]
+    ds = r.get("dataset", {})
+    wh = r.get("where", {}).get("whiteness", {})
+    head = ("Diagnosis of %s: %d flights of %d gliders, tracking noise %s per coordinate"
+            % (ds.get("path", "the dataset"), ds.get("flights", 0), ds.get("gliders", 0),
+               _cm(ds.get("tracking_sigma_m", 0.0))))
+    base = ("Baseline (wing-element model; coefficients, launches and build trims fitted): %s on the gliders it was "
+            "fitted to, %s on held-out gliders; tracking noise alone would give %s."
+            % (_cm(b["fit_rmse_m"]), _cm(b["holdout_rmse_m"]), _cm(b.get("noise_rmse_m", 0.0))))
+    white = wh.get("note", "")
+    captions = {
+        "phases": "Residuals by flight phase", "gliders": "Residuals by glider", "effects": "Ranked effects",
+        "error_vs_time": "Error along the flights", "worst_flights": "Worst flights before and after"}
+
+    md = "# Sim-to-real gap diagnosis\n\n%s\n\n**Verdict: %s**\n\n%s\n\n%s\n\n" % (
+        head, r["verdict"], r.get("summary", ""), base)
+    md += "## Which effect\n\n" + _md_table(_EFF_HEAD, eff_rows) + "\n"
+    if "effects" in files:
+        md += "![effects](effects.png)\n\n"
+    md += "## Where the gap lies\n\n" + _md_table(_PHASE_HEAD, phase_rows) + "\n"
+    for k in ("phases", "gliders", "error_vs_time"):
+        if k in files:
+            md += "![%s](%s)\n\n" % (captions[k], files[k])
+    md += "Residual whiteness: %s.\n\n" % white
+    if feat_rows:
+        md += _md_table(_FEAT_HEAD, feat_rows) + "\n"
+    if "worst_flights" in files:
+        md += "## Worst flights\n\n![worst flights](worst_flights.png)\n"
+
+    h = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>Pteromys diagnosis</title>",
+         "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;}"
+         "table{border-collapse:collapse;font-size:90%;}td,th{border:1px solid #bbb;padding:3px 6px;}"
+         ".verdict{font-size:130%;font-weight:bold;}</style></head><body>",
+         "<h1>Sim-to-real gap diagnosis</h1>", "<p>%s</p>" % html.escape(head),
+         "<p class='verdict'>Verdict: %s</p>" % html.escape(r["verdict"]),
+         "<p>%s</p>" % html.escape(r.get("summary", "")), "<p>%s</p>" % html.escape(base),
+         "<h2>Which effect</h2>", _html_table(_EFF_HEAD, eff_rows)]
+    if "effects" in files:
+        h.append("<img src='effects.png' alt='ranked effects'>")
+    h += ["<h2>Where the gap lies</h2>", _html_table(_PHASE_HEAD, phase_rows)]
+    for k in ("phases", "gliders", "error_vs_time"):
+        if k in files:
+            h.append("<p><img src='%s' alt='%s'></p>" % (files[k], captions[k]))
+    h.append("<p>Residual whiteness: %s.</p>" % html.escape(white))
+    if feat_rows:
+        h.append(_html_table(_FEAT_HEAD, feat_rows))
+    if "worst_flights" in files:
+        h += ["<h2>Worst flights</h2>", "<p><img src='worst_flights.png' alt='worst flights'></p>"]
+    h.append("</body></html>\n")
+    with open(os.path.join(out, "report.md"), "w") as f:
+        f.write(md)
+    index = os.path.join(out, "index.html")
+    with open(index, "w") as f:
+        f.write("\n".join(h))
+    if not quiet:
+        print("report written to %s" % index, file=sys.stderr)
+    return index
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    quiet = "--quiet" in argv
+    argv = [a for a in argv if a != "--quiet"]
+    if len(argv) != 2:
+        print("usage: python3 -m pteromys.diagnose_report RESULT.json OUTDIR [--quiet]", file=sys.stderr)
+        return 2
+    with open(argv[0]) as f:
+        r = json.load(f)
+    if r.get("format") != "pteromys-diagnosis/1":
+        print("not a diagnosis result (format pteromys-diagnosis/1): %s" % argv[0], file=sys.stderr)
+        return 2
+    render(r, argv[1], quiet=quiet)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

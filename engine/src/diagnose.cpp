@@ -1,0 +1,763 @@
+// Sim-to-real gap diagnosis: leave-gliders-out cross-validation of the
+// baseline and of every candidate effect, significance tests, verdict,
+// summary (diagnose.hpp; docs/diagnosis.md).
+#include "pteromys/diagnose.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+namespace pteromys {
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string fmt(double v, int prec = 3) {
+  std::ostringstream s;
+  s.precision(prec);
+  s << v;
+  return s.str();
+}
+
+std::string pct(double f) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(std::abs(f) < 0.1 ? 1 : 0);
+  s << 100 * f << " %";
+  return s.str();
+}
+
+std::string cm(double m) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(1);
+  s << 100 * m << " cm";
+  return s.str();
+}
+
+Dataset subset(const Dataset& d, const std::set<std::string>& keys) {
+  Dataset s;
+  s.flights_csv = d.flights_csv;
+  s.frame_rate_hz = d.frame_rate_hz;
+  s.tracking_sigma_m = d.tracking_sigma_m;
+  s.air_density = d.air_density;
+  s.air_viscosity = d.air_viscosity;
+  s.gravity = d.gravity;
+  s.extra_columns = d.extra_columns;
+  for (const auto& k : keys) {
+    s.gliders[k] = d.gliders.at(k);
+    auto it = d.glider_files.find(k);
+    if (it != d.glider_files.end()) s.glider_files[k] = it->second;
+  }
+  for (const auto& f : d.flights)
+    if (keys.count(f.glider)) s.flights.push_back(f);
+  return s;
+}
+
+// Regularised incomplete gamma functions (Numerical Recipes, 3rd ed., 6.2).
+double gamma_p_series(double a, double x) {
+  double ap = a, sum = 1.0 / a, del = sum;
+  for (int n = 0; n < 1000; ++n) {
+    ap += 1;
+    del *= x / ap;
+    sum += del;
+    if (std::abs(del) < std::abs(sum) * 1e-15) break;
+  }
+  return sum * std::exp(-x + a * std::log(x) - std::lgamma(a));
+}
+
+double gamma_q_fraction(double a, double x) {
+  const double tiny = 1e-300;
+  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
+  for (int i = 1; i < 1000; ++i) {
+    const double an = -i * (i - a);
+    b += 2;
+    d = an * d + b;
+    if (std::abs(d) < tiny) d = tiny;
+    c = b + an / c;
+    if (std::abs(c) < tiny) c = tiny;
+    d = 1 / d;
+    const double del = d * c;
+    h *= del;
+    if (std::abs(del - 1) < 1e-15) break;
+  }
+  return std::exp(-x + a * std::log(x) - std::lgamma(a)) * h;
+}
+
+}  // namespace
+
+double chi2_sf(double x, double k) {
+  if (!(k > 0)) return 1.0;
+  if (!(x > 0)) return 1.0;
+  const double a = k / 2, y = x / 2;
+  if (y < a + 1) return std::clamp(1.0 - gamma_p_series(a, y), 0.0, 1.0);
+  return std::clamp(gamma_q_fraction(a, y), 0.0, 1.0);
+}
+
+double chi2_isf(double p, double k) {
+  if (!(p > 0) || !(p < 1)) throw InputError("chi-square tail probability must be in (0, 1)");
+  double lo = 0, hi = std::max(10.0, 10 * k);
+  while (chi2_sf(hi, k) > p) hi *= 2;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (chi2_sf(mid, k) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+namespace {
+
+/// Free parameters: the trims of the gliders flown by `flights`.
+std::vector<FreeParam> trims_of(const DiagnosisData& D, const std::vector<int>& flights, bool on) {
+  std::vector<FreeParam> out;
+  if (!on) return out;
+  std::set<int> g;
+  for (int f : flights) g.insert(D.glider_of(f));
+  for (int k : g)
+    if (D.gliders()[k].features.trim_wing >= 0) out.push_back(FreeParam::trim(k));
+  return out;
+}
+
+std::vector<FreeParam> params_of(Effect e) {
+  std::vector<FreeParam> out;
+  for (std::size_t i = 0; i < effect_spec(e).parameters.size(); ++i)
+    out.push_back(FreeParam::effect_param(e, static_cast<int>(i)));
+  return out;
+}
+
+std::vector<LaunchParams> launches_of(const FitOutcome& f) {
+  std::vector<LaunchParams> L;
+  for (const auto& x : f.flights) L.push_back(x.launch);
+  return L;
+}
+
+std::vector<double> effect_values(const EffectValues& v, Effect e) {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < effect_spec(e).parameters.size(); ++i) out.push_back(v.at(e, static_cast<int>(i)));
+  return out;
+}
+
+std::string describe_parameters(Effect e, const std::vector<double>& v) {
+  const auto& sp = effect_spec(e);
+  std::string s;
+  for (std::size_t i = 0; i < sp.parameters.size() && i < v.size(); ++i) {
+    if (!s.empty()) s += ", ";
+    const auto& p = sp.parameters[i];
+    s += p.name + " " + fmt(v[i] * p.to_report, 3);
+  }
+  return s;
+}
+
+int centre_count(const std::shared_ptr<const CoefficientModel>& m) {
+  auto r = std::dynamic_pointer_cast<const RbfModel>(m);
+  return r ? static_cast<int>(r->centres().size()) : 0;
+}
+
+}  // namespace
+
+DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const DiagnoseCallback& progress) {
+  const auto t0 = Clock::now();
+  if (o.folds < 2) throw InputError("the number of folds must be at least 2");
+  if (o.effects.empty()) throw InputError("no candidate effects to test");
+  {
+    std::set<Effect> seen;
+    for (Effect e : o.effects)
+      if (!seen.insert(e).second) throw InputError("candidate effect '" + effect_name(e) + "' is listed twice");
+  }
+  if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("the significance level must be in (0, 1)");
+  if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("the shrink margin must be in [0, 1)");
+  if (!(o.none_tolerance >= 0)) throw InputError("the noise tolerance must not be negative");
+  if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("phase limits must not be negative");
+  DiagFitOptions so = o.sim;
+  so.threads = o.threads;
+  const DiagnosisData D(d, so);
+  const double sigma = d.tracking_sigma_m;
+
+  // Gliders with flights, dealt into folds by their main wing's aspect ratio.
+  std::vector<int> flown;
+  for (std::size_t g = 0; g < D.gliders().size(); ++g)
+    if (!D.gliders()[g].flights.empty()) flown.push_back(static_cast<int>(g));
+  if (flown.size() < 3)
+    throw InputError("leave-gliders-out diagnosis needs flights of at least 3 gliders; the dataset has " +
+                     std::to_string(flown.size()));
+  std::sort(flown.begin(), flown.end(), [&](int a, int b) {
+    const double ra = D.gliders()[a].features.main_aspect_ratio, rb = D.gliders()[b].features.main_aspect_ratio;
+    return ra != rb ? ra < rb : D.gliders()[a].key < D.gliders()[b].key;
+  });
+  const int K = std::min<int>(o.folds, static_cast<int>(flown.size()));
+  std::vector<int> fold_of(D.gliders().size(), -1);
+  for (std::size_t i = 0; i < flown.size(); ++i) fold_of[flown[i]] = static_cast<int>(i % K);
+
+  FitOptions fo = o.fit;
+  fo.threads = o.threads;
+  fo.start = o.start;
+  fo.aero = so.aero;
+  fo.launch.track.sim.dt = so.dt;
+
+  const int ne = static_cast<int>(o.effects.size());
+  const int steps = (o.full_fit ? 1 : 0) * (1 + ne) + K * (1 + ne) + 3;
+  int step = 0;
+  auto report = [&](const std::string& stage, const std::string& msg, bool advance = true) {
+    if (advance) ++step;
+    if (!progress) return;
+    DiagnoseProgress p;
+    p.stage = stage;
+    p.step = step;
+    p.steps = steps;
+    p.elapsed_s = since(t0);
+    p.message = msg;
+    progress(p);
+  };
+  auto coefficient_fit = [&](const std::set<std::string>& keys, const std::string& label) {
+    const Dataset sub = subset(d, keys);
+    report("baseline", label + ": fitting the wing-element coefficients to " + std::to_string(sub.flights.size()) +
+                           " flights of " + std::to_string(keys.size()) + " gliders", false);
+    const FitResult fr = fit_coefficients(sub, fo, [&](const FitProgress& p) {
+      if (p.stage == "stage" || p.stage == "done") report("baseline", label + ": " + p.message, false);
+    });
+    return std::static_pointer_cast<const CoefficientModel>(fr.model);
+  };
+
+  auto coefficient_params = [&](const std::shared_ptr<const CoefficientModel>& m) {
+    std::vector<FreeParam> out;
+    if (o.polish <= 0) return out;
+    for (int k = 0; k < 3 * centre_count(m); ++k) out.push_back(FreeParam::coefficient(k));
+    return out;
+  };
+  // Baseline on a set of flights: launches, trims and (polish) the centre values.
+  auto fit_baseline = [&](const std::shared_ptr<const CoefficientModel>& model, const std::vector<int>& flights) {
+    const auto trims = trims_of(D, flights, o.trim);
+    FitOutcome b = D.fit({model, {}, {}}, flights, trims);
+    if (o.polish > 0 && centre_count(model) > 0) {
+      auto free = coefficient_params(model);
+      free.insert(free.end(), trims.begin(), trims.end());
+      const auto warm = launches_of(b);
+      b = D.fit(b.model, flights, free, &warm);
+    }
+    return b;
+  };
+  // Every candidate on a set of flights, coefficients fixed at the baseline's;
+  // then the `polish` candidates that gained most refitted with the coefficients.
+  auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label) {
+    std::vector<FitOutcome> out(ne);
+    const auto warm = launches_of(base);
+    const auto trims = trims_of(D, flights, o.trim);
+    for (int e = 0; e < ne; ++e) {
+      auto free = params_of(o.effects[e]);
+      free.insert(free.end(), trims.begin(), trims.end());
+      out[e] = D.fit(base.model, flights, free, &warm);
+      report("effect", label + ": " + effect_name(o.effects[e]) + " (" +
+                           describe_parameters(o.effects[e], effect_values(out[e].model.effects, o.effects[e])) +
+                           "): RMSE " + cm(out[e].rmse()) + " (baseline " + cm(base.rmse()) + ")");
+    }
+    if (o.polish > 0 && centre_count(base.model.coefficients) > 0) {
+      std::vector<int> order(ne);
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](int a, int b) { return out[a].sse < out[b].sse; });
+      for (int i = 0; i < std::min(o.polish, ne); ++i) {
+        const int e = order[i];
+        if (!(out[e].sse < base.sse)) continue;
+        auto free = coefficient_params(base.model.coefficients);
+        const auto p = params_of(o.effects[e]);
+        free.insert(free.end(), p.begin(), p.end());
+        free.insert(free.end(), trims.begin(), trims.end());
+        const auto w = launches_of(out[e]);
+        out[e] = D.fit(out[e].model, flights, free, &w);
+        report("effect", label + ": " + effect_name(o.effects[e]) + " refitted with the coefficients (" +
+                             describe_parameters(o.effects[e], effect_values(out[e].model.effects, o.effects[e])) +
+                             "): RMSE " + cm(out[e].rmse()), false);
+      }
+    }
+    return out;
+  };
+
+  DiagnoseResult res;
+  res.sigma_m = sigma;
+  res.gliders = static_cast<int>(flown.size());
+  res.folds = K;
+  for (const auto& g : D.gliders()) res.glider_keys.push_back(g.key);
+  std::vector<int> all_flights;
+  for (int g : flown)
+    for (int f : D.gliders()[g].flights) all_flights.push_back(f);
+  std::sort(all_flights.begin(), all_flights.end());
+  res.flights = static_cast<int>(all_flights.size());
+  for (int f : all_flights) res.points += static_cast<int>(d.flights[f].points.size());
+  json timings;
+
+  // ------------------------------------------------------------ all gliders
+  FitOutcome base_full;
+  std::vector<FitOutcome> eff_full(ne);
+  int full_centres = 0;
+  if (o.full_fit) {
+    const auto tf = Clock::now();
+    std::set<std::string> keys;
+    for (int g : flown) keys.insert(D.gliders()[g].key);
+    const auto model = coefficient_fit(keys, "all gliders");
+    full_centres = centre_count(model);
+    timings["coefficients_all_s"] = since(tf);
+    base_full = fit_baseline(model, all_flights);
+    full_centres = centre_count(base_full.model.coefficients);
+    report("baseline", "all gliders: baseline RMSE " + cm(base_full.rmse()) + " (" + std::to_string(full_centres) +
+                           " centres, launches and trims fitted)");
+    eff_full = fit_effects(base_full, all_flights, "all gliders");
+    res.model = base_full.model.coefficients;
+    res.trim = base_full.model.trim;
+    timings["all_gliders_s"] = since(tf);
+  }
+
+  // ------------------------------------------------------------ folds
+  res.heldout.resize(d.flights.size());
+  std::vector<std::vector<std::vector<double>>> fold_params(ne);
+  std::vector<double> train_dsse(ne, 0.0);  // summed over folds (for the LR test without a full fit)
+  double train_sse0 = 0;
+  int train_dof0 = 0;
+  FitOutcome first_train;
+  res.fold_gliders.resize(K);
+  const auto tfolds = Clock::now();
+  for (int k = 0; k < K; ++k) {
+    std::set<std::string> keys;
+    std::vector<int> train, test;
+    for (int g : flown) {
+      if (fold_of[g] == k) {
+        res.fold_gliders[k].push_back(D.gliders()[g].key);
+        for (int f : D.gliders()[g].flights) test.push_back(f);
+      } else {
+        keys.insert(D.gliders()[g].key);
+        for (int f : D.gliders()[g].flights) train.push_back(f);
+      }
+    }
+    const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K);
+    const auto model = coefficient_fit(keys, label);
+    const FitOutcome base_tr = fit_baseline(model, train);
+    const FitOutcome base_ho = D.fit({base_tr.model.coefficients, {}, {}}, test, trims_of(D, test, o.trim));
+    report("fold", label + ": baseline RMSE " + cm(base_tr.rmse()) + " on training gliders, " + cm(base_ho.rmse()) +
+                       " on held-out gliders");
+    if (k == 0) first_train = base_tr;
+    train_sse0 += base_tr.sse;
+    train_dof0 += 2 * base_tr.points - base_tr.launch_parameters - base_tr.free_parameters;
+    for (std::size_t i = 0; i < test.size(); ++i) {
+      auto& h = res.heldout[test[i]];
+      h.flight = test[i];
+      h.fold = k;
+      h.baseline = base_ho.flights[i];
+      h.effects.resize(ne);
+    }
+    const auto warm_ho = launches_of(base_ho);
+    const std::vector<FitOutcome> trs = fit_effects(base_tr, train, label);
+    for (int e = 0; e < ne; ++e) {
+      const Effect E = o.effects[e];
+      const FitOutcome& tr = trs[e];
+      DiagModel ho_model = base_ho.model;
+      ho_model.coefficients = tr.model.coefficients;
+      ho_model.effects = tr.model.effects;
+      const FitOutcome ho = D.fit(ho_model, test, trims_of(D, test, o.trim), &warm_ho);
+      fold_params[e].push_back(effect_values(tr.model.effects, E));
+      train_dsse[e] += base_tr.sse - tr.sse;
+      for (std::size_t i = 0; i < test.size(); ++i) res.heldout[test[i]].effects[e] = ho.flights[i];
+      report("effect", label + ": " + effect_name(E) + " (" + describe_parameters(E, fold_params[e].back()) +
+                           (tr.free_parameters > 20 || tr.model.coefficients != base_tr.model.coefficients ? ", polished" : "") +
+                           "): held-out RMSE " + cm(ho.rmse()) + " (baseline " + cm(base_ho.rmse()) + ")", false);
+    }
+  }
+  timings["folds_s"] = since(tfolds);
+  {
+    std::vector<HeldOutFlight> kept;
+    for (auto& h : res.heldout)
+      if (h.flight >= 0) kept.push_back(std::move(h));
+    res.heldout = std::move(kept);
+  }
+
+  // ------------------------------------------------------------ statistics
+  const double s2 = sigma * sigma;
+  double sse0_ho = 0;
+  int n_ho = 0, f_ho = 0;
+  std::vector<double> sse_ho(ne, 0.0);
+  std::map<int, double> g0;
+  std::vector<std::map<int, double>> ge(ne);
+  for (const auto& h : res.heldout) {
+    sse0_ho += h.baseline.sse;
+    n_ho += static_cast<int>(h.baseline.residual.size());
+    ++f_ho;
+    const int g = D.glider_of(h.flight);
+    g0[g] += h.baseline.sse;
+    for (int e = 0; e < ne; ++e) {
+      sse_ho[e] += h.effects[e].sse;
+      ge[e][g] += h.effects[e].sse;
+    }
+  }
+  int trims_total = 0;
+  for (int g : flown)
+    if (o.trim && D.gliders()[g].features.trim_wing >= 0) ++trims_total;
+  const double dof_ho = std::max(1, 2 * n_ho - 5 * f_ho - trims_total);
+  res.holdout_rmse_m = std::sqrt(sse0_ho / n_ho);
+  res.holdout_chi2_ratio = sse0_ho / (s2 * dof_ho);
+  res.noise_rmse_m = std::sqrt(s2 * dof_ho / n_ho);
+  double sse0_fit = 0, dof_fit = 1;
+  if (o.full_fit) {
+    sse0_fit = base_full.sse;
+    dof_fit = std::max(1, 2 * base_full.points - base_full.launch_parameters - base_full.free_parameters -
+                              (o.polish > 0 ? 0 : 3 * full_centres));
+    res.fit_rmse_m = base_full.rmse();
+  } else {
+    sse0_fit = train_sse0 / std::max(1, K - 1);
+    dof_fit = std::max(1.0, train_dof0 / std::max(1.0, K - 1.0));
+    res.fit_rmse_m = std::sqrt(train_sse0 / std::max(1, K - 1) / res.points);
+  }
+  res.fit_chi2_ratio = sse0_fit / (s2 * dof_fit);
+
+  res.effects.resize(ne);
+  for (int e = 0; e < ne; ++e) {
+    const Effect E = o.effects[e];
+    EffectResult& r = res.effects[e];
+    r.effect = E;
+    r.name = effect_name(E);
+    const int pe = static_cast<int>(effect_spec(E).parameters.size());
+    r.holdout_rmse_m = std::sqrt(sse_ho[e] / n_ho);
+    r.shrink = 1 - r.holdout_rmse_m / res.holdout_rmse_m;
+    r.fold_parameters = fold_params[e];
+    double dsse = 0, sse_e = 0;
+    if (o.full_fit) {
+      r.fit_rmse_m = eff_full[e].rmse();
+      r.parameters = effect_values(eff_full[e].model.effects, E);
+      dsse = base_full.sse - eff_full[e].sse;
+      sse_e = eff_full[e].sse;
+    } else {
+      dsse = train_dsse[e] / std::max(1, K - 1);
+      sse_e = sse0_fit - dsse;
+      r.fit_rmse_m = std::sqrt(std::max(0.0, sse_e) / res.points);
+      r.parameters.assign(pe, 0.0);
+      for (const auto& fp : fold_params[e])
+        for (int i = 0; i < pe; ++i) r.parameters[i] += fp[i] / K;
+    }
+    const double s2_eff = std::max(s2, sse_e / std::max(1.0, dof_fit - pe));
+    r.delta_chi2 = std::max(0.0, dsse) / s2_eff;
+    r.p_value = chi2_sf(r.delta_chi2, pe);
+    // Held-out confirmation.
+    const double s2_ho = std::max(s2, sse_ho[e] / dof_ho);
+    r.holdout_delta_chi2 = (sse0_ho - sse_ho[e]) / s2_ho;
+    r.holdout_threshold = chi2_isf(o.alpha / ne, pe);
+    std::vector<double> dg;
+    for (const auto& [g, s0] : g0) {
+      const double x = (s0 - ge[e][g]) / s2;
+      dg.push_back(x);
+      if (x > 0) ++r.gliders_improved;
+    }
+    r.gliders_total = static_cast<int>(dg.size());
+    const double m = std::accumulate(dg.begin(), dg.end(), 0.0) / dg.size();
+    double v = 0;
+    for (double x : dg) v += (x - m) * (x - m);
+    v = dg.size() > 1 ? v / (dg.size() - 1) : 0.0;
+    r.glider_t = v > 0 ? m / std::sqrt(v / dg.size()) : 0.0;
+  }
+  // Holm's step-down over the library.
+  {
+    std::vector<int> order(ne);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return res.effects[a].p_value < res.effects[b].p_value; });
+    bool stop = false;
+    for (int i = 0; i < ne; ++i) {
+      EffectResult& r = res.effects[order[i]];
+      r.holm_level = o.alpha / (ne - i);
+      if (!stop && r.p_value <= r.holm_level) r.lr_pass = true;
+      else stop = true;
+    }
+  }
+  for (auto& r : res.effects)
+    r.significant = r.lr_pass && r.shrink >= o.min_shrink &&
+                    (!o.holdout_chi2_test || r.holdout_delta_chi2 > r.holdout_threshold);
+
+  // ------------------------------------------------------------ identifiability
+  report("analysis", "identifiability: effects against re-tuned coefficients and trims");
+  {
+    const auto ti = Clock::now();
+    // Without a fit to all gliders, the first fold's training fit stands in.
+    const FitOutcome& at = o.full_fit ? base_full : first_train;
+    std::vector<int> at_flights;
+    for (const auto& f : at.flights) at_flights.push_back(f.flight);
+    std::vector<FreeParam> free = trims_of(D, at_flights, o.trim);
+    const int nt = static_cast<int>(free.size());
+    const int nc = 3 * centre_count(at.model.coefficients);
+    for (int k = 0; k < nc; ++k) free.push_back(FreeParam::coefficient(k));
+    std::vector<int> col0(ne);
+    for (int e = 0; e < ne; ++e) {
+      col0[e] = static_cast<int>(free.size());
+      const auto p = params_of(o.effects[e]);
+      free.insert(free.end(), p.begin(), p.end());
+    }
+    const Eigen::MatrixXd J = D.projected_jacobian(at, free);
+    auto residualise = [](const Eigen::MatrixXd& B, const Eigen::MatrixXd& X) -> Eigen::MatrixXd {
+      if (B.cols() == 0) return X;
+      return X - B * B.colPivHouseholderQr().solve(X);
+    };
+    const Eigen::MatrixXd T = J.leftCols(nt);
+    const Eigen::MatrixXd U = residualise(T, J.middleCols(nt, nc));
+    std::vector<Eigen::MatrixXd> Ej(ne);
+    for (int e = 0; e < ne; ++e) {
+      const int pe = static_cast<int>(effect_spec(o.effects[e]).parameters.size());
+      Ej[e] = residualise(T, J.middleCols(col0[e], pe));
+      double worst = 0;
+      for (int c = 0; c < pe; ++c) {
+        const Eigen::VectorXd x = Ej[e].col(c);
+        const double n2 = x.squaredNorm();
+        if (!(n2 > 0)) {
+          worst = 1;
+          continue;
+        }
+        const Eigen::VectorXd left = nc > 0 ? Eigen::VectorXd(x - U * U.colPivHouseholderQr().solve(x)) : x;
+        worst = std::max(worst, 1 - left.squaredNorm() / n2);
+      }
+      res.effects[e].coefficient_collinearity = std::clamp(worst, 0.0, 1.0);
+      res.effects[e].indistinguishable = worst > o.collinearity_limit;
+    }
+    for (int a = 0; a < ne; ++a)
+      for (int b = 0; b < ne; ++b) {
+        if (a == b) continue;
+        double best = 0;
+        for (int i = 0; i < Ej[a].cols(); ++i)
+          for (int j = 0; j < Ej[b].cols(); ++j) {
+            const double na = Ej[a].col(i).norm(), nb = Ej[b].col(j).norm();
+            if (na > 0 && nb > 0) best = std::max(best, std::abs(Ej[a].col(i).dot(Ej[b].col(j))) / (na * nb));
+          }
+        if (best > 0.8) res.effects[a].confusable.push_back({effect_name(o.effects[b]), best});
+      }
+    timings["identifiability_s"] = since(ti);
+  }
+
+  // ------------------------------------------------------------ verdict
+  std::vector<int> order(ne);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const auto &ra = res.effects[a], &rb = res.effects[b];
+    if (ra.significant != rb.significant) return ra.significant;
+    return ra.shrink > rb.shrink;
+  });
+  const int best = order[0];
+  if (res.effects[best].significant) res.verdict = res.effects[best].name;
+  else res.verdict = res.holdout_chi2_ratio <= 1 + o.none_tolerance ? "none" : "unexplained";
+
+  for (auto& r : res.effects) {
+    std::string n;
+    if (r.significant) n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
+                           ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
+    else if (!r.lr_pass) n = "not significant on the training gliders (p " + fmt(r.p_value, 2) + ")";
+    else if (r.shrink < o.min_shrink) n = "fits the training gliders better but does not carry over to held-out gliders";
+    else n = "held-out improvement within what fitting its strength to noise gives";
+    if (r.indistinguishable)
+      n += "; " + pct(r.coefficient_collinearity) + " of its signature is a change of the coefficients or trims: it cannot "
+           "be told apart from re-tuned coefficients";
+    r.note = n;
+  }
+
+  // ------------------------------------------------------------ where
+  report("analysis", "where the gap lies");
+  {
+    const int vi = res.effects[best].significant ? best : -1;
+    std::vector<const FlightOutcome*> b, a;
+    for (const auto& h : res.heldout) {
+      b.push_back(&h.baseline);
+      a.push_back(&h.effects[vi >= 0 ? vi : best]);
+    }
+    res.where = gap_analysis(D, b, a, o, sigma);
+    res.where["compared_with"] = res.effects[best].name;
+    // Worst flights, before and after.
+    std::vector<int> idx(res.heldout.size());
+    std::iota(idx.begin(), idx.end(), 0);
+    auto per_point = [&](int i) { return res.heldout[i].baseline.sse / std::max<std::size_t>(1, res.heldout[i].baseline.residual.size()); };
+    std::sort(idx.begin(), idx.end(), [&](int x, int y) { return per_point(x) > per_point(y); });
+    json wf = json::array();
+    for (int i = 0; i < std::min<int>(o.worst_flights, idx.size()); ++i) {
+      const auto& h = res.heldout[idx[i]];
+      const auto& f = d.flights[h.flight];
+      const auto& ef = h.effects[vi >= 0 ? vi : best];
+      json j = {{"flight", f.name}, {"glider", f.glider}, {"fold", h.fold + 1}};
+      json t = json::array(), tr = json::array(), sb = json::array(), se = json::array();
+      double s0 = 0, s1 = 0;
+      for (std::size_t p = 0; p < f.points.size(); ++p) {
+        t.push_back(f.points[p].t);
+        tr.push_back({f.points[p].x, f.points[p].y});
+        sb.push_back({f.points[p].x + h.baseline.residual[p].x, f.points[p].y + h.baseline.residual[p].y});
+        if (ef.residual.size() == f.points.size())
+          se.push_back({f.points[p].x + ef.residual[p].x, f.points[p].y + ef.residual[p].y});
+        s0 += std::pow(norm(h.baseline.residual[p]), 2);
+        if (ef.residual.size() == f.points.size()) s1 += std::pow(norm(ef.residual[p]), 2);
+      }
+      j["t_s"] = t;
+      j["tracked_m"] = tr;
+      j["baseline_m"] = sb;
+      j["effect_m"] = se;
+      j["baseline_rmse_m"] = std::sqrt(s0 / f.points.size());
+      j["effect_rmse_m"] = std::sqrt(s1 / f.points.size());
+      wf.push_back(j);
+    }
+    res.report["worst_flights"] = wf;
+    res.report["effect"] = res.effects[best].name;
+  }
+
+  // ------------------------------------------------------------ summary
+  {
+    std::ostringstream s;
+    // Where: the phase and the geometry feature that carry the excess error.
+    std::string phase_words;
+    double best_ratio = 0;
+    for (const auto& p : res.where["phases"]) {
+      const double r = p["chi2_ratio"].get<double>();
+      if (r > best_ratio && p["points"].get<long>() >= 10) {
+        best_ratio = r;
+        const std::string n = p["phase"];
+        phase_words = n == "launch" ? "the launch transient" : n == "glide" ? "the glide" : "the approach to the ground";
+      }
+    }
+    std::string feature_words;
+    double best_p = 0.05;
+    for (const auto& f : res.where["features"]) {
+      const double p = f["p_value"], rho = f["spearman_rho"];
+      if (p < best_p && std::abs(rho) >= 0.5) {
+        best_p = p;
+        const std::string n = f["feature"];
+        const std::map<std::string, std::string> words = {
+            {"main_aspect_ratio", "aspect ratio"}, {"tail_aspect_ratio", "tail aspect ratio"},
+            {"tail_arm_m", "tail arms"},          {"tail_volume", "tail volumes"},
+            {"wing_loading_n_m2", "wing loadings"}, {"fuselage_ratio", "fuselages (relative to the wing)"}};
+        const bool high = rho > 0;
+        feature_words = std::string(high ? (n == "tail_arm_m" ? "long " : n == "fuselage_ratio" ? "large " : "high ")
+                                         : (n == "tail_arm_m" ? "short " : n == "fuselage_ratio" ? "small " : "low ")) +
+                        words.at(n);
+      }
+    }
+    if (res.holdout_chi2_ratio > 1 + o.none_tolerance && !phase_words.empty()) {
+      s << "The model misses most during " << phase_words;
+      if (!feature_words.empty()) s << " of gliders with " << feature_words;
+      s << " (held-out error " << fmt(std::sqrt(best_ratio), 2) << " times what tracking noise alone gives there). ";
+    }
+    const auto& b = res.effects[best];
+    if (res.verdict == b.name) {
+      s << "Adding " << b.name << " (" << effect_spec(b.effect).description << ") cuts the held-out error by "
+        << pct(b.shrink) << ", from " << cm(res.holdout_rmse_m) << " to " << cm(b.holdout_rmse_m)
+        << " (tracking noise alone: " << cm(res.noise_rmse_m) << "); fitted "
+        << describe_parameters(b.effect, b.parameters) << ".";
+      int others = 0;
+      for (int i = 1; i < ne; ++i) others += res.effects[order[i]].significant ? 1 : 0;
+      if (others > 0) {
+        s << " Also significant:";
+        for (int i = 1; i < ne; ++i)
+          if (res.effects[order[i]].significant)
+            s << " " << res.effects[order[i]].name << " (" << pct(res.effects[order[i]].shrink) << ")";
+        s << ".";
+      }
+      if (!b.confusable.empty()) {
+        s << " Its signature resembles";
+        for (std::size_t i = 0; i < b.confusable.size(); ++i) s << (i ? ", " : " ") << b.confusable[i].first;
+        s << ", which fit" << (b.confusable.size() > 1 ? "" : "s") << " less well here.";
+      }
+      if (b.indistinguishable) s << " Caution: " << b.note.substr(b.note.find("; ") + 2) << ".";
+    } else if (res.verdict == "none") {
+      s << "The baseline model predicts the held-out gliders to within the tracking noise (held-out error "
+        << cm(res.holdout_rmse_m) << ", noise alone " << cm(res.noise_rmse_m)
+        << "); no candidate effect improves it significantly.";
+    } else {
+      s << "A real gap remains (held-out error " << cm(res.holdout_rmse_m) << " against " << cm(res.noise_rmse_m)
+        << " from noise alone) that no candidate closes: the best, " << b.name << ", cuts it by only "
+        << pct(b.shrink) << ".";
+    }
+    if (res.where["whiteness"]["structured"].get<bool>() && res.verdict != "none")
+      s << " The baseline's residuals drift systematically along each flight rather than scattering like noise.";
+    res.summary = s.str();
+  }
+  // The spec's order: best first, i.e. by held-out RMSE (ties: library order).
+  // The verdict (a significant effect with the largest shrink) is therefore
+  // the first significant entry.
+  std::stable_sort(res.effects.begin(), res.effects.end(),
+                   [](const EffectResult& a, const EffectResult& b) { return a.holdout_rmse_m < b.holdout_rmse_m; });
+  res.seconds = since(t0);
+  timings["total_s"] = res.seconds;
+  timings["threads"] = D.threads();
+  res.timings = timings;
+  report("done", res.verdict + ": " + res.summary);
+  return res;
+}
+
+json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
+  json j;
+  j["format"] = "pteromys-diagnosis/1";
+  j["baseline"] = {{"fit_rmse_m", r.fit_rmse_m},
+                   {"holdout_rmse_m", r.holdout_rmse_m},
+                   {"fit_chi2_ratio", r.fit_chi2_ratio},
+                   {"holdout_chi2_ratio", r.holdout_chi2_ratio},
+                   {"noise_rmse_m", r.noise_rmse_m}};
+  j["effects"] = json::array();
+  for (const auto& e : r.effects) {
+    const auto& sp = effect_spec(e.effect);
+    json par, fold = json::array();
+    for (std::size_t i = 0; i < sp.parameters.size(); ++i)
+      par[sp.parameters[i].name] = i < e.parameters.size() ? e.parameters[i] * sp.parameters[i].to_report : 0.0;
+    for (const auto& fp : e.fold_parameters) {
+      json x;
+      for (std::size_t i = 0; i < sp.parameters.size() && i < fp.size(); ++i)
+        x[sp.parameters[i].name] = fp[i] * sp.parameters[i].to_report;
+      fold.push_back(x);
+    }
+    json conf = json::array();
+    for (const auto& c : e.confusable) conf.push_back({{"effect", c.first}, {"cosine", c.second}});
+    j["effects"].push_back({{"name", e.name},
+                            {"holdout_rmse_m", e.holdout_rmse_m},
+                            {"shrink", e.shrink},
+                            {"significant", e.significant},
+                            {"fit_rmse_m", e.fit_rmse_m},
+                            {"parameters", par},
+                            {"fold_parameters", fold},
+                            {"likelihood_ratio", {{"delta_chi2", e.delta_chi2},
+                                                  {"p_value", e.p_value},
+                                                  {"holm_level", e.holm_level},
+                                                  {"pass", e.lr_pass}}},
+                            {"cross_validation", {{"delta_chi2", e.holdout_delta_chi2},
+                                                  {"threshold", e.holdout_threshold},
+                                                  {"gliders_improved", e.gliders_improved},
+                                                  {"gliders", e.gliders_total},
+                                                  {"paired_t", e.glider_t}}},
+                            {"coefficient_collinearity", e.coefficient_collinearity},
+                            {"indistinguishable_from_coefficients", e.indistinguishable},
+                            {"confusable_with", conf},
+                            {"description", effect_spec(e.effect).description},
+                            {"note", e.note}});
+  }
+  j["verdict"] = r.verdict;
+  j["summary"] = r.summary;
+  j["where"] = r.where;
+  j["report"] = r.report;
+  json folds = json::array();
+  for (const auto& f : r.fold_gliders) folds.push_back(f);
+  json trims = json::object();
+  for (std::size_t g = 0; g < r.trim.size() && g < r.glider_keys.size(); ++g) trims[r.glider_keys[g]] = rad2deg(r.trim[g]);
+  j["dataset"] = {{"gliders", r.gliders}, {"flights", r.flights}, {"points", r.points},
+                  {"tracking_sigma_m", r.sigma_m}};
+  j["cross_validation"] = {{"folds", r.folds}, {"held_out_gliders", folds},
+                           {"protocol", "leave-gliders-out: coefficients and effect strengths fitted to the other "
+                                        "folds' gliders; each held-out flight's launch and its glider's trim fitted "
+                                        "to its own points; RMSE over every held-out point"}};
+  j["trim_deg"] = trims;
+  j["options"] = {{"folds", o.folds},
+                  {"trim", o.trim},
+                  {"alpha", o.alpha},
+                  {"min_shrink", o.min_shrink},
+                  {"holdout_chi2_test", o.holdout_chi2_test},
+                  {"none_tolerance", o.none_tolerance},
+                  {"collinearity_limit", o.collinearity_limit},
+                  {"launch_window_s", o.launch_window_s},
+                  {"near_ground_m", o.near_ground_m},
+                  {"ground_y_m", o.sim.ground_y},
+                  {"dt_s", o.sim.dt},
+                  {"max_centres", o.fit.max_centres},
+                  {"full_fit", o.full_fit},
+                  {"polish", o.polish}};
+  j["timings"] = r.timings;
+  return j;
+}
+
+}  // namespace pteromys

@@ -1,0 +1,406 @@
+// Candidate effects of the diagnosis: parametric corrections of the fast
+// wing-element model (effects.hpp; formulas in docs/diagnosis.md).
+#include "pteromys/effects.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pteromys/elements.hpp"
+#include "pteromys/geometry.hpp"
+#include "pteromys/mass.hpp"
+
+namespace pteromys {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / kPi;
+
+std::vector<EffectSpec> make_specs() {
+  auto k = [](double hi) { return EffectParameter{"strength", "-", 1.0, 0.0, hi, 1.0}; };
+  return {
+      {Effect::PitchDamping, "pitch_damping",
+       "each wing sees the air velocity of the pitch rate at its 3/4-chord point", EffectLevel::Aerodynamic,
+       {k(10)}},
+      {Effect::Downwash, "downwash",
+       "each wing's horseshoe vortex lowers the angle of attack behind it (raises it ahead)",
+       EffectLevel::Aerodynamic, {k(10)}},
+      {Effect::FiniteSpan, "finite_span",
+       "each wing's own induced angle C_L/(pi A e): lift-slope loss and induced drag of its aspect ratio",
+       EffectLevel::Aerodynamic, {k(10)}},
+      {Effect::FuselageDrag, "fuselage_drag", "laminar friction drag of the fuselage plate (both faces)",
+       EffectLevel::Aerodynamic, {k(10)}},
+      {Effect::GroundEffect, "ground_effect", "the induced angle falls near the ground (McCormick's factor)",
+       EffectLevel::Aerodynamic, {k(10)}},
+      {Effect::LaunchRotation, "launch_rotation", "a common pitch rate at the first tracked point of every flight",
+       EffectLevel::Launch, {{"pitch_rate_deg_s", "rad/s", 1.0, -20.0, 20.0, kRadToDeg}}},
+      {Effect::AddedMass, "added_mass", "apparent mass and rotary inertia of the plates moving normal to themselves",
+       EffectLevel::Aerodynamic, {k(10)}},
+      {Effect::Wind, "wind", "a steady horizontal wind during the session",
+       EffectLevel::Session, {{"wind_m_s", "m/s", 1.0, -15.0, 15.0, 1.0}}},
+      {Effect::Camera, "camera", "the camera's scale (distance) and roll errors",
+       EffectLevel::Observation,
+       {{"scale_error", "-", 0.02, -0.5, 0.5, 1.0}, {"roll_deg", "rad", 0.02, -0.5, 0.5, kRadToDeg}}},
+  };
+}
+
+const std::vector<EffectSpec>& specs() {
+  static const std::vector<EffectSpec> s = make_specs();
+  return s;
+}
+
+inline double wrap(double a) {
+  if (a > kPi || a <= -kPi) {
+    a = std::fmod(a + kPi, 2 * kPi);
+    if (a < 0) a += 2 * kPi;
+    a -= kPi;
+  }
+  return a;
+}
+
+using V3 = std::array<double, 3>;
+inline V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline V3 cross3(const V3& a, const V3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double dot3(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline double norm3(const V3& a) { return std::sqrt(dot3(a, a)); }
+
+/// Segment a -> b of unit circulation (Biot-Savart, smoothed core).
+V3 segment(const V3& p, const V3& a, const V3& b, double rc) {
+  const V3 r1 = sub(p, a), r2 = sub(p, b), r0 = sub(b, a);
+  const V3 c = cross3(r1, r2);
+  const double l0 = norm3(r0);
+  if (l0 <= 0) return {0, 0, 0};
+  const double c2 = dot3(c, c) + rc * rc * l0 * l0;  // |r1 x r2|^2 = h^2 l0^2
+  const double n1 = norm3(r1), n2 = norm3(r2);
+  if (n1 <= 0 || n2 <= 0 || c2 <= 0) return {0, 0, 0};
+  const double k = (dot3(r0, r1) / n1 - dot3(r0, r2) / n2) / (4 * kPi * c2);
+  return {k * c[0], k * c[1], k * c[2]};
+}
+
+/// Semi-infinite leg from a to infinity along unit d, unit circulation.
+V3 leg(const V3& p, const V3& a, const V3& d, double rc) {
+  const V3 r1 = sub(p, a);
+  const V3 c = cross3(d, r1);
+  const double n1 = norm3(r1);
+  const double c2 = dot3(c, c) + rc * rc;
+  if (n1 <= 0 || c2 <= 0) return {0, 0, 0};
+  const double k = (1 + dot3(d, r1) / n1) / (4 * kPi * c2);
+  return {k * c[0], k * c[1], k * c[2]};
+}
+
+Vec2 mean_point(const WingElements& el, double chord_fraction, const Mount& m, Vec2 cg) {
+  double a = 0, x = 0;
+  for (const auto& e : el.elements) {
+    a += e.area;
+    x += e.area * (e.x_le - chord_fraction * e.chord);
+  }
+  const double xm = a > 0 ? x / a : 0.0;
+  return Vec2{m.x_m, m.y_m} + rotate({xm, 0.0}, deg2rad(m.angle_deg)) - cg;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ names
+
+const std::vector<Effect>& all_effects() {
+  static const std::vector<Effect> e = {Effect::PitchDamping, Effect::Downwash,       Effect::FiniteSpan,
+                                        Effect::FuselageDrag, Effect::GroundEffect,   Effect::LaunchRotation,
+                                        Effect::AddedMass,    Effect::Wind,           Effect::Camera};
+  return e;
+}
+
+const EffectSpec& effect_spec(Effect e) { return specs()[static_cast<std::size_t>(e)]; }
+const std::string& effect_name(Effect e) { return effect_spec(e).name; }
+
+Effect effect_from_name(const std::string& name) {
+  std::string known;
+  for (const auto& s : specs()) {
+    if (s.name == name) return s.effect;
+    known += (known.empty() ? "" : ", ") + s.name;
+  }
+  throw InputError("unknown effect '" + name + "' (known: " + known + ")");
+}
+
+double& EffectValues::at(Effect e, int i) {
+  switch (e) {
+    case Effect::PitchDamping: return pitch_damping;
+    case Effect::Downwash: return downwash;
+    case Effect::FiniteSpan: return finite_span;
+    case Effect::FuselageDrag: return fuselage_drag;
+    case Effect::GroundEffect: return ground_effect;
+    case Effect::LaunchRotation: return launch_rotation;
+    case Effect::AddedMass: return added_mass;
+    case Effect::Wind: return wind;
+    case Effect::Camera: return i == 0 ? camera_scale : camera_roll;
+  }
+  throw InputError("unknown effect");
+}
+
+double EffectValues::at(Effect e, int i) const { return const_cast<EffectValues*>(this)->at(e, i); }
+
+bool EffectValues::aerodynamic_zero() const {
+  return pitch_damping == 0 && downwash == 0 && finite_span == 0 && fuselage_drag == 0 && ground_effect == 0 &&
+         added_mass == 0;
+}
+
+bool EffectValues::zero() const {
+  return aerodynamic_zero() && launch_rotation == 0 && wind == 0 && camera_scale == 0 && camera_roll == 0;
+}
+
+// --------------------------------------------------------------- geometry
+
+GliderFeatures glider_features(const Glider& g, double dz, double gravity) {
+  GliderFeatures f;
+  const MassProperties mp = mass_properties(g);
+  f.mass = mp.mass;
+  f.inertia = mp.inertia;
+  f.cg = mp.cg;
+  double total_area = 0;
+  for (const auto& w : g.wings) {
+    const WingElements el = slice_wing(w.outline, dz);
+    WingFeatures wf;
+    wf.area = el.planform_area;
+    wf.span = el.span;
+    wf.aspect_ratio = wf.area > 0 ? wf.span * wf.span / wf.area : 0.0;
+    wf.mean_chord = wf.span > 0 ? wf.area / wf.span : 0.0;
+    wf.theta = deg2rad(w.mount.angle_deg);
+    wf.mount = Vec2{w.mount.x_m, w.mount.y_m} - mp.cg;
+    wf.quarter_chord = mean_point(el, 0.25, w.mount, mp.cg);
+    wf.three_quarter_chord = mean_point(el, 0.75, w.mount, mp.cg);
+    wf.mid_chord = mean_point(el, 0.5, w.mount, mp.cg);
+    for (const auto& e : el.elements) {
+      const double width = e.z1 - e.z0;
+      wf.apparent_mass += kPi / 4 * e.chord * e.chord * width;
+      wf.apparent_inertia += kPi / 128 * std::pow(e.chord, 4) * width;
+    }
+    total_area += wf.area;
+    f.span = std::max(f.span, wf.span);
+    f.wings.push_back(wf);
+  }
+  for (std::size_t j = 0; j < f.wings.size(); ++j)
+    if (f.wings[j].area > f.wings[f.main_wing].area) f.main_wing = static_cast<int>(j);
+  if (f.wings.size() > 1) {
+    int t = -1;
+    for (std::size_t j = 0; j < f.wings.size(); ++j) {
+      if (static_cast<int>(j) == f.main_wing) continue;
+      if (t < 0 || f.wings[j].area < f.wings[t].area * (1 - 1e-9) ||
+          (std::abs(f.wings[j].area - f.wings[t].area) <= 1e-9 * f.wings[t].area &&
+           f.wings[j].quarter_chord.x < f.wings[t].quarter_chord.x))
+        t = static_cast<int>(j);
+    }
+    // Equal areas (tandem): the aft wing carries the trim error.
+    const auto& m = f.wings[f.main_wing];
+    if (std::abs(f.wings[t].area - m.area) <= 1e-6 * m.area && m.quarter_chord.x < f.wings[t].quarter_chord.x)
+      t = f.main_wing;
+    f.trim_wing = t;
+  }
+  if (!g.fuselage.empty()) {
+    const AreaMoments am = area_moments(g.fuselage);
+    f.fuselage_area = am.A;
+    if (am.A > 0) f.fuselage_centroid = Vec2{am.Sx / am.A, am.Sy / am.A} - mp.cg;
+    const auto b = bounds(g.fuselage);
+    f.fuselage_length = b.second.x - b.first.x;
+  }
+  const auto& mw = f.wings[f.main_wing];
+  f.main_aspect_ratio = mw.aspect_ratio;
+  if (f.trim_wing >= 0) {
+    const int other = f.trim_wing == f.main_wing ? (f.main_wing == 0 ? 1 : 0) : f.trim_wing;
+    const auto& tw = f.wings[other];
+    f.tail_aspect_ratio = tw.aspect_ratio;
+    f.tail_arm = std::abs(tw.quarter_chord.x - mw.quarter_chord.x);
+    f.tail_volume = mw.area > 0 && mw.mean_chord > 0 ? tw.area * f.tail_arm / (mw.area * mw.mean_chord) : 0.0;
+  }
+  f.wing_loading = total_area > 0 ? f.mass * gravity / total_area : 0.0;
+  f.fuselage_ratio = mw.area > 0 ? f.fuselage_area / mw.area : 0.0;
+  return f;
+}
+
+double helmbold_efficiency(double aspect_ratio, double section_slope) {
+  if (!(aspect_ratio > 0) || !(section_slope > 0)) return 1.0;
+  const double x = section_slope / (kPi * aspect_ratio);
+  const double d = std::sqrt(1 + x * x) + x - 1;
+  return d > 0 ? x / d : 1.0;
+}
+
+double ground_factor(double hb) {
+  if (!(hb > 0)) return 0.0;
+  const double u = 16 * hb;
+  return u * u / (1 + u * u);
+}
+
+std::array<double, 3> horseshoe_velocity(const V3& p, const V3& a, const V3& b, const V3& d, double gamma,
+                                         double rc) {
+  // Leg from infinity into a (circulation along -d from a: a leg a -> inf with -gamma),
+  // bound a -> b, leg b -> infinity.
+  const V3 s = segment(p, a, b, rc), la = leg(p, a, d, rc), lb = leg(p, b, d, rc);
+  return {gamma * (s[0] + lb[0] - la[0]), gamma * (s[1] + lb[1] - la[1]), gamma * (s[2] + lb[2] - la[2])};
+}
+
+// -------------------------------------------------------------- EffectAero
+
+EffectAero::EffectAero(const MountedGlider& g, const GliderFeatures& f, const EffectValues& v, double height_origin)
+    : g_(g), f_(f), values_(v), height_origin_(height_origin), base_(g) {
+  if (f.wings.size() != g.aero().wing_count()) throw InputError("glider features do not match the mounted glider");
+  if (f.wings.size() > 8) throw InputError("the effect corrections handle gliders of up to 8 wings");
+  rho_ = g.aero().environment().air_density;
+  mu_ = g.aero().environment().air_viscosity;
+  iterate_ = v.downwash != 0 || v.finite_span != 0 || v.ground_effect != 0;
+  for (std::size_t j = 0; j < f.wings.size(); ++j) {
+    const double da = 0.02;
+    const auto& t = g.aero().table(j);
+    const double s = f.wings[j].area > 0 ? (t.lookup(8.0, da).lift - t.lookup(8.0, -da).lift) / (2 * da * f.wings[j].area)
+                                         : 0.0;
+    slope_.push_back(s);
+    efficiency_.push_back(helmbold_efficiency(f.wings[j].aspect_ratio, s > 0.5 ? s : 2 * kPi));
+  }
+}
+
+void EffectAero::flows(const FlightState& s, WingFlow* out) const {
+  const std::size_t n = f_.wings.size();
+  const double cb = std::cos(s.beta), sb = std::sin(s.beta);
+  // Air velocity relative to the glider at the CG, glider frame.
+  const Vec2 a{-(cb * s.v.x + sb * s.v.y), -(-sb * s.v.x + cb * s.v.y)};
+  const double V = norm(a);
+  const auto& mounts = g_.mounts();
+  Vec2 aj[8];
+  Vec2 w[8];
+  double eps[8], c[8];
+  const std::size_t nn = n;
+  const double h = s.p.y - height_origin_;
+  for (std::size_t j = 0; j < nn; ++j) {
+    const Vec2 r = f_.wings[j].three_quarter_chord;
+    aj[j] = a + (values_.pitch_damping * s.omega) * Vec2{r.y, -r.x};
+    w[j] = {0, 0};
+    eps[j] = 0;
+    c[j] = 0;
+    if (values_.finite_span != 0 || values_.ground_effect != 0) {
+      const auto& wf = f_.wings[j];
+      const double ge = values_.ground_effect != 0 ? values_.ground_effect * (1 - ground_factor(h / wf.span)) : 0.0;
+      c[j] = (values_.finite_span - ge) / (kPi * wf.aspect_ratio * efficiency_[j]);
+    }
+  }
+  const int passes = iterate_ ? 4 : 1;
+  for (int pass = 0; pass < passes; ++pass) {
+    for (std::size_t j = 0; j < nn; ++j) {
+      const Vec2 u = aj[j] + w[j];
+      const double Vj = norm(u);
+      const double g = std::atan2(u.y, -u.x);
+      const double ageo = g + deg2rad(mounts[j].angle_deg);
+      const auto& t = g_.aero().table(j);
+      double x = ageo - eps[j];
+      double lift = 0;
+      if (c[j] != 0) {
+        // One relaxed Newton step per pass on x + c C_L(x) = alpha_geo with the
+        // table's small-angle slope (exact in the linear range).
+        const double cl = t.lookup(Vj, wrap(x)).lift / f_.wings[j].area;
+        const double den = std::max(0.2, 1 + c[j] * slope_[j]);
+        x -= (x + c[j] * cl - ageo) / den;
+        eps[j] = ageo - x;
+      }
+      lift = t.lookup(Vj, wrap(x)).lift;
+      out[j].speed = Vj;
+      out[j].alpha = wrap(x);
+      out[j].gamma = wrap(g - eps[j]);
+      out[j].cl = lift / f_.wings[j].area;
+    }
+    if (pass + 1 == passes || values_.downwash == 0) continue;
+    // Interference: horseshoe vortices of the other wings.
+    const V3 d = V > 0 ? V3{a.x / V, a.y / V, 0.0} : V3{-1, 0, 0};
+    for (std::size_t j = 0; j < nn; ++j) w[j] = {0, 0};
+    for (std::size_t i = 0; i < nn; ++i) {
+      const auto& wi = f_.wings[i];
+      const double bp = kPi / 4 * wi.span;
+      const double gamma = 0.5 * out[i].speed * out[i].cl * wi.area / bp;
+      const V3 A{wi.quarter_chord.x, wi.quarter_chord.y, -bp / 2}, B{wi.quarter_chord.x, wi.quarter_chord.y, bp / 2};
+      const double rc = 0.25 * wi.mean_chord;
+      for (std::size_t j = 0; j < nn; ++j) {
+        if (j == i) continue;
+        const auto& wj = f_.wings[j];
+        Vec2 sum{0, 0};
+        for (double zf : {0.0, 0.3, 0.6}) {
+          const V3 P{wj.three_quarter_chord.x, wj.three_quarter_chord.y, zf * wj.span / 2};
+          const V3 v = horseshoe_velocity(P, A, B, d, gamma, rc);
+          sum = sum + Vec2{v[0], v[1]};
+        }
+        w[j] = w[j] + (values_.downwash / 3.0) * sum;
+      }
+    }
+  }
+}
+
+std::vector<WingFlow> EffectAero::wing_flows(const FlightState& s) const {
+  std::vector<WingFlow> out(f_.wings.size());
+  flows(s, out.data());
+  return out;
+}
+
+Wrench EffectAero::evaluate(const FlightState& s) const {
+  if (values_.aerodynamic_zero()) return base_.evaluate(s);
+  const double V = norm(s.v);
+  if (V < 1e-9) return {};
+  WingFlow fl[8];
+  flows(s, fl);
+  const auto& mounts = g_.mounts();
+  const Vec2 cg = g_.mass().cg;
+  Vec2 F{0, 0};
+  double T = 0;
+  for (std::size_t j = 0; j < f_.wings.size(); ++j) {
+    const WingCoefs c = g_.aero().table(j).lookup(fl[j].speed, fl[j].alpha);
+    const double q = 0.5 * rho_ * fl[j].speed * fl[j].speed;
+    const double cg_ = std::cos(fl[j].gamma), sg = std::sin(fl[j].gamma);
+    // Drag along the local air velocity (-cos, sin), lift perpendicular (sin, cos).
+    const Vec2 Fj{q * (-c.drag * cg_ + c.lift * sg), q * (c.drag * sg + c.lift * cg_)};
+    const Vec2 arm = Vec2{mounts[j].x_m, mounts[j].y_m} - cg;
+    T += q * c.moment + cross(arm, Fj);
+    F = F + Fj;
+  }
+  if (values_.fuselage_drag != 0 && f_.fuselage_area > 0 && f_.fuselage_length > 0) {
+    const double cb = std::cos(s.beta), sb = std::sin(s.beta);
+    const Vec2 a{-(cb * s.v.x + sb * s.v.y), -(-sb * s.v.x + cb * s.v.y)};
+    const double re = rho_ * V * f_.fuselage_length / mu_;
+    const double d = values_.fuselage_drag * 0.5 * rho_ * V * V * 2 * f_.fuselage_area * 1.328 / std::sqrt(re);
+    const Vec2 Ff = (d / V) * a;
+    T += cross(f_.fuselage_centroid, Ff);
+    F = F + Ff;
+  }
+  return {rotate(F, s.beta), T};
+}
+
+double EffectAero::max_alpha(const FlightState& s) const {
+  if (values_.aerodynamic_zero()) return base_.max_alpha(s);
+  if (norm(s.v) < 1e-9) return base_.max_alpha(s);
+  WingFlow fl[8];
+  flows(s, fl);
+  double m = 0;
+  for (std::size_t j = 0; j < f_.wings.size(); ++j) m = std::max(m, std::abs(fl[j].alpha));
+  return m;
+}
+
+AddedMass EffectAero::added_mass(const FlightState& s) const {
+  AddedMass am;
+  if (values_.added_mass == 0) return am;
+  const auto& mounts = g_.mounts();
+  for (std::size_t j = 0; j < f_.wings.size(); ++j) {
+    const auto& wf = f_.wings[j];
+    const double ma = values_.added_mass * rho_ * wf.apparent_mass;
+    const double ia = values_.added_mass * rho_ * wf.apparent_inertia;
+    const Vec2 n = rotate({0.0, 1.0}, s.beta + deg2rad(mounts[j].angle_deg));
+    const Vec2 r = rotate(wf.mid_chord, s.beta);
+    const double J[3] = {n.x, n.y, cross(r, n)};
+    const double zn_v = -n.y * s.v.x + n.x * s.v.y;  // (z x n) . v
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) am.m[a][b] += ma * J[a] * J[b];
+      am.bias[a] -= ma * s.omega * zn_v * J[a];
+    }
+    am.m[2][2] += ia;
+  }
+  return am;
+}
+
+Vec2 camera_to_world(Vec2 q, const EffectValues& v) {
+  return (1.0 / (1.0 + v.camera_scale)) * rotate(q, -v.camera_roll);
+}
+
+Vec2 world_to_camera(Vec2 p, const EffectValues& v) { return (1.0 + v.camera_scale) * rotate(p, v.camera_roll); }
+
+}  // namespace pteromys

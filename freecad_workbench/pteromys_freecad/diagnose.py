@@ -1,0 +1,76 @@
+"""Sim-to-real gap diagnosis from FreeCAD (issue 7; docs/diagnosis.md).
+
+Headless part of the "Diagnose flights" command: runs the engine's
+``pteromys.diagnose`` on a flight dataset (spec/formats.md, "Flight
+dataset"), writes the result JSON and the readable report, and reports
+progress through a callback. Usable from the console, macros and
+``freecadcmd``::
+
+    import pteromys_freecad.diagnose as pd
+    result, index = pd.run_diagnosis("flights/dataset.json", "flights/diagnosis",
+                                     progress=lambda p: print(p["message"]))
+
+The GUI command (``diagnose_gui.py``) adds the file dialog, a progress dialog
+with a Cancel button and opens ``index`` in FreeCAD's browser.
+"""
+import json
+import os
+import shutil
+import tempfile
+
+from .backend import engine
+
+
+class Cancelled(Exception):
+    """The diagnosis was cancelled from the progress callback."""
+
+
+def default_report_dir(dataset):
+    """``<dataset folder>/diagnosis``: where the command puts the report."""
+    return os.path.join(os.path.dirname(os.path.abspath(dataset)), "diagnosis")
+
+
+def run_diagnosis(dataset, report_dir=None, progress=None, **options):
+    """Diagnose ``dataset`` (path of a dataset.json) and write the report.
+
+    ``report_dir``: directory of ``index.html``, ``report.md``, the plots and
+    ``diagnosis.json`` (default :func:`default_report_dir`); it is written
+    beside and renamed into place, so a failed or cancelled run leaves an
+    earlier report untouched. ``progress(dict)`` gets keys stage, step,
+    steps, elapsed_s, message; raising :class:`Cancelled` in it stops the run.
+    ``options`` go to ``pteromys.diagnose`` (folds, effects, max_centres, ...).
+    Returns ``(result, index_path)``.
+    """
+    pt = engine()
+    if not os.path.isfile(dataset):
+        raise ValueError("no dataset file at %s" % dataset)
+    report_dir = os.path.abspath(report_dir or default_report_dir(dataset))
+    parent = os.path.dirname(report_dir)
+    if not os.path.isdir(parent):
+        raise ValueError("the report's folder %s does not exist" % parent)
+    result = pt.diagnose(dataset, progress=progress, **options)
+    tmp = tempfile.mkdtemp(prefix=".diagnosis-", dir=parent)
+    try:
+        with open(os.path.join(tmp, "diagnosis.json"), "w") as f:
+            json.dump(result, f, indent=1)
+        pt.diagnosis_report(result, tmp)
+        old = None
+        if os.path.exists(report_dir):
+            old = report_dir + ".old-%d" % os.getpid()
+            os.replace(report_dir, old)
+        os.replace(tmp, report_dir)
+        if old:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return result, os.path.join(report_dir, "index.html")
+
+
+def summary_text(result):
+    """A few lines for a message box: verdict, summary and the best effects."""
+    lines = ["Verdict: %s" % result["verdict"], "", result.get("summary", ""), ""]
+    for e in result["effects"][:3]:
+        lines.append("%s: held-out %.1f cm, shrink %.0f %%%s" % (
+            e["name"], 100 * e["holdout_rmse_m"], 100 * e["shrink"], ", significant" if e["significant"] else ""))
+    return "\n".join(lines)

@@ -1,0 +1,171 @@
+// The diagnosis's fitting core and statistics (src/diagnose_fit.cpp,
+// src/diagnose.cpp). Flights are simulated here by the corrected model with
+// known effect strengths and launches; the fits must give those back. The
+// whole pipeline on reference-simulator data is tested in
+// tests/python/test_diagnose.py; the blind benchmark is bench/diagnosis/.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "pteromys/diagnose.hpp"
+#include "pteromys/diagnose_fit.hpp"
+#include "pteromys/effects.hpp"
+#include "pteromys/io.hpp"
+#include "pteromys/mass.hpp"
+#include "test_support.hpp"
+
+using namespace pteromys;
+
+namespace {
+
+/// Flights of three training gliders simulated by the baseline model with
+/// the corrections `truth`, tracked at 20 fps for 1.2 s with Gaussian noise
+/// `noise` [m] (seeded), launches varied over 6-9 m/s and 0-8 degrees.
+Dataset corrected_flights(const EffectValues& truth, double noise, unsigned seed = 3) {
+  Dataset d;
+  d.tracking_sigma_m = noise > 0 ? noise : 1e-3;
+  d.frame_rate_hz = 20;
+  for (const char* k : {"t01-rectangular", "t04-tapered-mild", "t17-canard"})
+    d.gliders[k] = load_glider(test::source_path(std::string("examples/training/") + k + ".glider.json"));
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  for (const auto& [key, g] : d.gliders) {
+    d.glider_files[key] = "gliders/" + key + ".glider.json";
+    const MountedGlider mg = mount(g, default_model());
+    const GliderFeatures f = glider_features(g);
+    const EffectAero aero(mg, f, truth, -1000.0);
+    const RigidBody body{f.mass, f.inertia};
+    TrackOptions to;
+    to.sim.wind = {truth.wind, 0.0};
+    for (int i = 0; i < 3; ++i) {
+      LaunchParams L;
+      L.t = 0.0;
+      L.x = 0.0;
+      L.y = 1.5;
+      L.speed = 6.0 + 1.5 * i;
+      L.climb = deg2rad(8.0 - 4.0 * i);
+      L.pitch = L.climb + deg2rad(1.0 + i);
+      L.pitch_rate = truth.launch_rotation;
+      std::vector<double> t;
+      for (int k = 0; k < 24; ++k) t.push_back(k / 20.0);
+      const Track tr = simulate_track(aero, body, L, t, to);
+      TrackedFlight fl;
+      fl.name = key + "-" + std::to_string(i);
+      fl.glider = key;
+      for (std::size_t k = 0; k < t.size(); ++k) {
+        const Vec2 q = world_to_camera(tr.positions[k], truth);
+        fl.points.push_back({t[k], q.x + noise * n01(rng), q.y + noise * n01(rng)});
+      }
+      d.flights.push_back(fl);
+    }
+  }
+  return d;
+}
+
+std::vector<int> all_flights(const Dataset& d) {
+  std::vector<int> f;
+  for (std::size_t i = 0; i < d.flights.size(); ++i) f.push_back(static_cast<int>(i));
+  return f;
+}
+
+DiagFitOptions quick() {
+  DiagFitOptions o;
+  o.threads = 2;
+  o.max_iterations = 12;
+  return o;
+}
+
+}  // namespace
+
+// The chi-square tail against textbook quantiles (e.g. Abramowitz & Stegun
+// table 26.8): P(X > 3.8415 | 1) = 0.05, P(X > 5.9915 | 2) = 0.05,
+// P(X > 23.2093 | 10) = 0.01; the quantile inverts the tail.
+TEST(DiagnoseStatistics, ChiSquareTailMatchesTables) {
+  EXPECT_NEAR(chi2_sf(3.841458820694124, 1), 0.05, 1e-9);
+  EXPECT_NEAR(chi2_sf(5.991464547107979, 2), 0.05, 1e-9);
+  EXPECT_NEAR(chi2_sf(23.209251158954356, 10), 0.01, 1e-9);
+  EXPECT_NEAR(chi2_sf(2.0, 2), std::exp(-1.0), 1e-12);  // k = 2: exp(-x/2)
+  for (double k : {1.0, 2.0, 5.0, 40.0})
+    for (double p : {0.5, 0.05, 1e-3, 1e-6}) EXPECT_NEAR(chi2_sf(chi2_isf(p, k), k), p, 1e-6 * p + 1e-12);
+}
+
+// Exact flights of the baseline: the fit with nothing free reproduces them
+// (launches recovered, residuals at round-off and step-size level).
+TEST(DiagnosisFit, BaselineFlightsFitExactly) {
+  const Dataset d = corrected_flights(EffectValues{}, 0.0);
+  const DiagnosisData D(d, quick());
+  const FitOutcome r = D.fit({default_model(), {}, {}}, all_flights(d), {});
+  EXPECT_LT(r.rmse(), 1e-4);
+  EXPECT_EQ(r.points, 9 * 24);
+  EXPECT_EQ(r.launch_parameters, 45);
+}
+
+// A corrected model's strength is recovered from its own exact flights by
+// variable projection from the baseline (strength 0) -- the fitting core,
+// independent of how well a correction imitates the reference simulator.
+TEST(DiagnosisFit, RecoversTheTrueStrengthOfItsOwnFlights) {
+  struct Case {
+    Effect e;
+    double value;
+    double tol;
+  };
+  for (const Case& c : {Case{Effect::PitchDamping, 0.8, 0.02}, Case{Effect::Wind, -1.5, 0.02},
+                        Case{Effect::LaunchRotation, deg2rad(40.0), deg2rad(1.0)}}) {
+    EffectValues truth;
+    truth.at(c.e, 0) = c.value;
+    const Dataset d = corrected_flights(truth, 0.0);
+    const DiagnosisData D(d, quick());
+    const FitOutcome r = D.fit({default_model(), {}, {}}, all_flights(d), {FreeParam::effect_param(c.e, 0)});
+    EXPECT_NEAR(r.model.effects.at(c.e, 0), c.value, c.tol) << effect_name(c.e);
+    EXPECT_LT(r.rmse(), 2e-3) << effect_name(c.e);
+  }
+}
+
+// The camera's two parameters together, with 1 cm of tracking noise: the
+// fitted scale and roll lie within 4 standard deviations of the truth (the
+// Gauss-Newton covariance sigma^2 (J^T J)^-1 of the projected Jacobian).
+TEST(DiagnosisFit, RecoversCameraScaleAndRollWithinTheirUncertainty) {
+  EffectValues truth;
+  truth.camera_scale = 0.04;
+  truth.camera_roll = deg2rad(3.0);
+  const double sigma = 0.01;
+  const Dataset d = corrected_flights(truth, sigma, 11);
+  const DiagnosisData D(d, quick());
+  const std::vector<FreeParam> free = {FreeParam::effect_param(Effect::Camera, 0),
+                                       FreeParam::effect_param(Effect::Camera, 1)};
+  const FitOutcome r = D.fit({default_model(), {}, {}}, all_flights(d), free);
+  const Eigen::MatrixXd J = D.projected_jacobian(r, free);
+  const Eigen::MatrixXd cov = sigma * sigma * (J.transpose() * J).inverse();
+  const double s0 = std::sqrt(cov(0, 0)) * D.scale(free[0]), s1 = std::sqrt(cov(1, 1)) * D.scale(free[1]);
+  EXPECT_NEAR(r.model.effects.camera_scale, 0.04, 4 * s0 + 1e-4);
+  EXPECT_NEAR(r.model.effects.camera_roll, deg2rad(3.0), 4 * s1 + 1e-4);
+  EXPECT_LT(s0, 0.01);  // the data do constrain them
+  // Residual at the noise level: SSE / (2N - 5F - 2) ~ sigma^2.
+  const double dof = 2.0 * r.points - r.launch_parameters - 2;
+  EXPECT_NEAR(r.sse / dof, sigma * sigma, 0.25 * sigma * sigma);
+}
+
+// Bad input is refused with a reason.
+TEST(Diagnose, RefusesTooFewGlidersAndBadOptions) {
+  Dataset d = corrected_flights(EffectValues{}, 0.01);
+  DiagnoseOptions o;
+  o.folds = 1;
+  EXPECT_THROW(diagnose(d, o), InputError);
+  o = {};
+  o.effects = {Effect::Wind, Effect::Wind};
+  EXPECT_THROW(diagnose(d, o), InputError);
+  // Two gliders: no training and held-out gliders for every fold.
+  d.gliders.erase("t17-canard");
+  d.glider_files.erase("t17-canard");
+  std::vector<TrackedFlight> kept;
+  for (const auto& f : d.flights)
+    if (f.glider != "t17-canard") kept.push_back(f);
+  d.flights = kept;
+  try {
+    diagnose(d, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 3 gliders"), std::string::npos);
+  }
+}

@@ -1,0 +1,225 @@
+// Candidate effects of the diagnosis (src/effects.cpp): each correction is
+// checked against a closed-form result or a physical sign, never against
+// numbers the code printed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pteromys/effects.hpp"
+#include "pteromys/io.hpp"
+#include "pteromys/mass.hpp"
+#include "test_support.hpp"
+
+using namespace pteromys;
+
+namespace {
+
+Glider training(const std::string& name) {
+  return load_glider(test::source_path("examples/training/" + name + ".glider.json"));
+}
+
+struct Rig {
+  Glider g;
+  MountedGlider mg;
+  GliderFeatures f;
+  explicit Rig(const Glider& gl) : g(gl), mg(mount(g, default_model())), f(glider_features(g)) {}
+};
+
+FlightState level(double v = 8.0, double omega = 0.0, double beta = 0.0) {
+  FlightState s;
+  s.p = {0, 1.5};
+  s.v = {v, 0};
+  s.beta = beta;
+  s.omega = omega;
+  return s;
+}
+
+}  // namespace
+
+// With every strength zero the corrected model is the baseline itself, in
+// every state (same forces, bit for bit).
+TEST(EffectAero, AllStrengthsZeroIsTheBaselineExactly) {
+  Rig s(training("t05-tapered-strong"));
+  const QuasiStaticAero q(s.mg);
+  const EffectAero e(s.mg, s.f, EffectValues{});
+  for (double om : {-2.0, 0.0, 3.0})
+    for (double beta : {-0.1, 0.05, 0.3}) {
+      const FlightState st = level(7.5, om, beta);
+      const Wrench a = q.evaluate(st), b = e.evaluate(st);
+      EXPECT_EQ(a.force.x, b.force.x);
+      EXPECT_EQ(a.force.y, b.force.y);
+      EXPECT_EQ(a.moment, b.moment);
+    }
+  EXPECT_FALSE(e.has_added_mass());
+}
+
+// Pitch damping: a nose-up pitch rate raises the tail's angle of attack by
+// about omega l / V (l: tail arm behind the CG), so the moment falls
+// (restoring); the baseline ignores the pitch rate.
+TEST(EffectAero, PitchDampingOpposesThePitchRateWithTheTailArmKinematics) {
+  Rig s(training("t01-rectangular"));
+  EffectValues v;
+  v.pitch_damping = 1.0;
+  const EffectAero e(s.mg, s.f, v);
+  const EffectAero base(s.mg, s.f, EffectValues{});
+  const double V = 8.0, om = 2.0;
+  EXPECT_DOUBLE_EQ(base.evaluate(level(V, om)).moment, base.evaluate(level(V, 0)).moment);
+  const double m0 = e.evaluate(level(V, 0)).moment, m1 = e.evaluate(level(V, om)).moment;
+  EXPECT_LT(m1, m0);
+  // Each wing's angle of attack changes by -omega r_x / V at its 3/4-chord point
+  // (small-angle kinematics of the 3/4-chord rule).
+  const auto f0 = e.wing_flows(level(V, 0)), f1 = e.wing_flows(level(V, om));
+  for (std::size_t j = 0; j < f0.size(); ++j) {
+    const double expect = -om * s.f.wings[j].three_quarter_chord.x / V;
+    EXPECT_NEAR(f1[j].alpha - f0[j].alpha, expect, 0.02 * std::abs(expect) + 1e-4) << "wing " << j;
+  }
+}
+
+// Helmbold's lift slope of a low-aspect-ratio wing,
+// a0 / (sqrt(1 + (a0/(pi A))^2) + a0/(pi A)), equals the lifting-line form
+// a0 / (1 + a0/(pi A e)) with e = helmbold_efficiency(A, a0).
+TEST(EffectAero, HelmboldEfficiencyReproducesHelmboldsLiftSlope) {
+  const double a0 = 2 * kPi;
+  for (double A : {0.5, 1.0, 2.0, 4.0, 8.0, 20.0}) {
+    const double x = a0 / (kPi * A);
+    const double helmbold = a0 / (std::sqrt(1 + x * x) + x);
+    const double e = helmbold_efficiency(A, a0);
+    EXPECT_NEAR(a0 / (1 + a0 / (kPi * A * e)), helmbold, 1e-12 * helmbold) << "A = " << A;
+    EXPECT_GT(e, 0.0);
+    EXPECT_LE(e, 1.0 + 1e-12);
+  }
+  // Large aspect ratio: lifting-line limit e -> 1.
+  EXPECT_NEAR(helmbold_efficiency(1e4, a0), 1.0, 1e-3);
+}
+
+// Finite span: the induced angle lowers the lift of a wing of aspect ratio A
+// by the factor 1 / (1 + a0 / (pi A e)) in the linear range.
+TEST(EffectAero, FiniteSpanLowersTheLiftSlopeAsHelmbold) {
+  Rig s(training("t02-rectangular-low-ar"));
+  EffectValues v;
+  v.finite_span = 1.0;
+  const EffectAero e(s.mg, s.f, v);
+  const EffectAero base(s.mg, s.f, EffectValues{});
+  const double V = 8.0, d = 0.01;
+  for (std::size_t j = 0; j < s.f.wings.size(); ++j) {
+    const double a0 = base.section_slope(j);
+    ASSERT_GT(a0, 0.5);
+    const double A = s.f.wings[j].aspect_ratio;
+    const double ratio_expected = 1.0 / (1 + a0 / (kPi * A * helmbold_efficiency(A, a0)));
+    // Lift slope of wing j with and without the correction at the glider's trim-ish attitude.
+    auto cl = [&](const EffectAero& m, double beta) { return m.wing_flows(level(V, 0, beta))[j].cl; };
+    const double s1 = (cl(e, d) - cl(e, -d)) / (2 * d), s0 = (cl(base, d) - cl(base, -d)) / (2 * d);
+    EXPECT_NEAR(s1 / s0, ratio_expected, 0.05 * ratio_expected) << "wing " << j << ", A = " << A;
+  }
+}
+
+// A horseshoe vortex with a very long bound leg: at a point close to the
+// middle of the bound leg, the velocity is that of an infinite line vortex,
+// Gamma / (2 pi h), and turns with the circulation.
+TEST(EffectAero, HorseshoeNearItsBoundLegIsALineVortex) {
+  const double G = 0.7, h = 0.05;
+  const std::array<double, 3> a{0, 0, -500}, b{0, 0, 500}, d{-1, 0, 0};
+  // Point ahead of the bound leg (x = +h): the trailing legs run to -x, far away.
+  const auto v = horseshoe_velocity({h, 0, 0}, a, b, d, G, 0.0);
+  EXPECT_NEAR(std::hypot(v[0], v[1]), G / (2 * kPi * h), 1e-3 * G / (2 * kPi * h));
+  EXPECT_NEAR(v[2], 0.0, 1e-12);
+  // A lifting wing (bound vector +z, free stream toward -x in the glider frame)
+  // induces upwash ahead of itself and downwash behind.
+  const double rc = 0.0;
+  const std::array<double, 3> A{0, 0, -0.2}, B{0, 0, 0.2};
+  EXPECT_GT(horseshoe_velocity({0.2, 0, 0}, A, B, d, 1.0, rc)[1], 0.0);
+  EXPECT_LT(horseshoe_velocity({-0.2, 0, 0}, A, B, d, 1.0, rc)[1], 0.0);
+}
+
+// McCormick's factor: 0 on the ground, 1/2 at h/b = 1/16, -> 1 far up.
+TEST(EffectAero, GroundFactorLimits) {
+  EXPECT_EQ(ground_factor(0.0), 0.0);
+  EXPECT_NEAR(ground_factor(1.0 / 16), 0.5, 1e-12);
+  EXPECT_GT(ground_factor(10.0), 0.999);
+}
+
+// Ground effect: close to the ground the induced angle falls, so a
+// low-aspect-ratio wing lifts more near the ground than far from it.
+TEST(EffectAero, GroundEffectRaisesLiftNearTheGround) {
+  Rig s(training("t02-rectangular-low-ar"));
+  EffectValues v;
+  v.finite_span = 1.0;
+  v.ground_effect = 1.0;
+  const EffectAero e(s.mg, s.f, v, 0.0);
+  FlightState hi = level(8.0, 0.0, 0.08), lo = hi;
+  hi.p.y = 5.0;
+  lo.p.y = 0.02;
+  EXPECT_GT(e.evaluate(lo).force.y, e.evaluate(hi).force.y);
+}
+
+// Added mass: the matrix is symmetric positive semi-definite and its vertical
+// entry for a level glider is k rho pi/4 sum c^2 dz over the wings (Newman).
+TEST(EffectAero, AddedMassIsTheApparentMassOfThePlates) {
+  Rig s(training("t01-rectangular"));
+  EffectValues v;
+  v.added_mass = 2.0;
+  const EffectAero e(s.mg, s.f, v);
+  ASSERT_TRUE(e.has_added_mass());
+  FlightState st = level(8.0);
+  st.beta = 0;
+  const AddedMass am = e.added_mass(st);
+  double expect_yy = 0;
+  const double rho = 1.2;
+  for (std::size_t j = 0; j < s.f.wings.size(); ++j) {
+    const double th = s.f.wings[j].theta;
+    expect_yy += 2.0 * rho * s.f.wings[j].apparent_mass * std::cos(th) * std::cos(th);
+  }
+  EXPECT_NEAR(am.m[1][1], expect_yy, 1e-12);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) EXPECT_DOUBLE_EQ(am.m[a][b], am.m[b][a]);
+  // A rectangular plate of chord c and span b: pi/4 c^2 b.
+  const Glider rect = test::simple_glider(0.06, 0.4);
+  const GliderFeatures rf = glider_features(rect);
+  EXPECT_NEAR(rf.wings[0].apparent_mass, kPi / 4 * 0.06 * 0.06 * 0.4, 1e-3 * kPi / 4 * 0.06 * 0.06 * 0.4);
+}
+
+// Fuselage drag: Blasius friction on both faces along the flow, proportional
+// to the strength.
+TEST(EffectAero, FuselageDragIsBlasiusFrictionAlongTheFlow) {
+  Rig s(training("t01-rectangular"));
+  EffectValues v1, v2;
+  v1.fuselage_drag = 1.0;
+  v2.fuselage_drag = 2.0;
+  const EffectAero base(s.mg, s.f, EffectValues{}), e1(s.mg, s.f, v1), e2(s.mg, s.f, v2);
+  const double V = 8.0;
+  const FlightState st = level(V);
+  const double d1 = base.evaluate(st).force.x - e1.evaluate(st).force.x;
+  const double d2 = base.evaluate(st).force.x - e2.evaluate(st).force.x;
+  const double re = 1.2 * V * s.f.fuselage_length / 1.8e-5;
+  const double blasius = 0.5 * 1.2 * V * V * 2 * s.f.fuselage_area * 1.328 / std::sqrt(re);
+  EXPECT_NEAR(d1, blasius, 1e-9);
+  EXPECT_NEAR(d2, 2 * blasius, 1e-9);
+  EXPECT_NEAR(base.evaluate(st).force.y, e1.evaluate(st).force.y, 1e-12);
+}
+
+// Camera: the two maps invert each other; a scale error of kappa makes
+// recorded distances 1 + kappa times the true ones.
+TEST(EffectAero, CameraMapsInvertEachOther) {
+  EffectValues v;
+  v.camera_scale = 0.03;
+  v.camera_roll = deg2rad(2.0);
+  for (Vec2 p : {Vec2{0, 0}, Vec2{3.2, -1.1}, Vec2{-7, 2.5}}) {
+    const Vec2 q = world_to_camera(p, v), back = camera_to_world(q, v);
+    EXPECT_NEAR(back.x, p.x, 1e-12);
+    EXPECT_NEAR(back.y, p.y, 1e-12);
+    EXPECT_NEAR(norm(q), 1.03 * norm(p), 1e-12);
+  }
+}
+
+TEST(EffectNames, AreTheSpecLibraryInOrder) {
+  const char* names[] = {"pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect",
+                         "launch_rotation", "added_mass", "wind", "camera"};
+  ASSERT_EQ(all_effects().size(), 9u);
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_EQ(effect_name(all_effects()[i]), names[i]);
+    EXPECT_EQ(effect_from_name(names[i]), all_effects()[i]);
+    const auto n = effect_spec(all_effects()[i]).parameters.size();
+    EXPECT_TRUE(n == 1 || n == 2);
+  }
+  EXPECT_THROW(effect_from_name("vortex_shedding"), InputError);
+}

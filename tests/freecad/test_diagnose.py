@@ -1,0 +1,51 @@
+"""The workbench's "Diagnose flights" command, headless part (issue 7): in
+freecadcmd, run_diagnosis() runs the engine with progress, writes the report
+into place and returns the result; the GUI module loads without a GUI."""
+import os
+import subprocess
+
+from conftest import EXAMPLES, PTEROMYS_BIN
+
+GLIDERS = ["t01-rectangular", "t04-tapered-mild", "t17-canard"]
+
+
+def _dataset(tmp_path):
+    gl = tmp_path / "gliders"
+    gl.mkdir()
+    for g in GLIDERS:
+        (gl / (g + ".glider.json")).write_text(open(os.path.join(EXAMPLES, "training", g + ".glider.json")).read())
+    out = tmp_path / "flights"
+    r = subprocess.run([PTEROMYS_BIN, "generate", str(gl), "-o", str(out), "--flights-per-glider", "2",
+                        "--effects", "baseline", "--quiet", "--seed", "4"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    return out / "dataset.json"
+
+
+def test_diagnosis_runs_headless_with_progress_and_writes_the_report(fc, tmp_path):
+    ds = _dataset(tmp_path)
+    report = tmp_path / "flights" / "diagnosis"
+    res = fc('''
+import pteromys_freecad.diagnose as pd
+import pteromys_freecad.diagnose_gui as gui   # must load without FreeCADGui
+steps = []
+result, index = pd.run_diagnosis(%r, progress=lambda p: steps.append((p["step"], p["steps"], p["stage"])),
+                                 folds=3, max_centres=1, effects=["wind", "camera"], threads=2)
+RESULT["verdict"] = result["verdict"]
+RESULT["names"] = [e["name"] for e in result["effects"]]
+RESULT["index"] = index
+RESULT["steps"] = steps
+RESULT["text"] = pd.summary_text(result)
+RESULT["default_dir"] = pd.default_report_dir(%r)
+RESULT["has_command"] = hasattr(gui, "DiagnoseFlights") and hasattr(gui, "run_with_progress")
+''' % (str(ds), str(ds)), timeout=600)
+    assert res["index"] == str(report / "index.html")
+    assert res["default_dir"] == str(report)
+    assert os.path.isfile(res["index"]) and os.path.isfile(report / "diagnosis.json")
+    assert os.path.isfile(report / "effects.png")
+    assert sorted(res["names"]) == ["camera", "wind"]
+    assert res["verdict"] in ("wind", "camera", "none", "unexplained")
+    assert res["text"].startswith("Verdict: ")
+    assert res["has_command"]
+    steps = res["steps"]
+    assert len(steps) > 5 and steps[-1][2] == "done" and steps[-1][0] == steps[-1][1]
+    assert not [p for p in os.listdir(report.parent) if p.startswith(".diagnosis-")]

@@ -1,0 +1,197 @@
+"""`pteromys diagnose` (issue 7): the command-line contract of spec/formats.md
+("Diagnosis result"), the report, bad input, the Python API, and two small
+blind checks whose expected answers come from how the data were generated
+(the reference simulator's effect switches), never from the diagnosis itself.
+
+The large blind benchmark is bench/diagnosis/run_blind.py (docs/diagnosis.md).
+"""
+import csv
+import json
+import math
+import os
+
+import pytest
+
+from conftest import ROOT, load, run
+
+LIBRARY = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect", "launch_rotation",
+           "added_mass", "wind", "camera"]
+GLIDERS = ["t01-rectangular", "t04-tapered-mild", "t06-swept-15", "t12-elliptic", "t17-canard"]
+FAST = ["--max-centres", "2", "--folds", "3", "--threads", "2"]
+
+
+def _gliders(tmp):
+    d = tmp / "gliders"
+    d.mkdir(exist_ok=True)
+    for g in GLIDERS:
+        src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
+        (d / (g + ".glider.json")).write_text(open(src).read())
+    return d
+
+
+def _generate(tmp, name, effects, strength=None, seed=5, extra=()):
+    out = tmp / name
+    args = ["generate", _gliders(tmp), "-o", out, "--flights-per-glider", "3", "--seed", seed, "--quiet",
+            "--effects", effects] + list(extra)
+    if strength:
+        args += ["--strength", strength]
+    r = run(args)
+    assert r.returncode == 0, r.stderr
+    return out / "dataset.json"
+
+
+@pytest.fixture(scope="module")
+def camera_case(tmp_path_factory):
+    """Reference flights recorded by a camera 9 % too close and rolled 6 degrees
+    (camera strength 3: scale 1 + 0.03 * 3, roll 2 deg * 3), every other effect
+    off; 10 frames per second for 1.5-2 s of each flight, 2 cm tracking noise."""
+    tmp = tmp_path_factory.mktemp("diag_camera")
+    ds = _generate(tmp, "data", "camera", "camera=3", extra=["--frame-rate", "10", "--noise-m", "0.02"])
+    out = tmp / "diagnosis.json"
+    rep = tmp / "report"
+    r = run(["diagnose", ds, "--json", out, "--report", rep] + FAST)
+    assert r.returncode == 0, r.stderr[-3000:]
+    return ds, load(out), rep, r
+
+
+def test_result_has_the_spec_keys_and_every_library_effect(camera_case):
+    _, j, _, _ = camera_case
+    assert j["format"] == "pteromys-diagnosis/1"
+    b = j["baseline"]
+    assert b["fit_rmse_m"] > 0 and b["holdout_rmse_m"] > 0
+    names = [e["name"] for e in j["effects"]]
+    assert sorted(names) == sorted(LIBRARY) and len(names) == len(set(names))
+    for e in j["effects"]:
+        assert set(["name", "holdout_rmse_m", "shrink", "significant"]) <= set(e)
+        assert isinstance(e["significant"], bool)
+        # shrink = 1 - holdout_rmse_m / baseline holdout_rmse_m (spec)
+        assert e["shrink"] == pytest.approx(1 - e["holdout_rmse_m"] / b["holdout_rmse_m"], abs=1e-12)
+    # best first
+    h = [e["holdout_rmse_m"] for e in j["effects"]]
+    assert h == sorted(h)
+    assert j["verdict"] in LIBRARY + ["none", "unexplained"]
+
+
+def test_verdict_agrees_with_the_significance_decisions(camera_case):
+    _, j, _, _ = camera_case
+    sig = [e["name"] for e in j["effects"] if e["significant"]]
+    if j["verdict"] in LIBRARY:
+        assert j["verdict"] == sig[0]
+    else:
+        assert sig == []
+
+
+def test_counts_and_noise_are_those_of_the_dataset(camera_case):
+    ds, j, _, _ = camera_case
+    with open(ds.parent / "flights.csv") as f:
+        rows = list(csv.DictReader(f))
+    flights = {r["flight"] for r in rows}
+    assert j["dataset"]["flights"] == len(flights)
+    assert j["dataset"]["points"] == len(rows)
+    assert j["dataset"]["gliders"] == len(GLIDERS)
+    sigma = json.load(open(ds))["tracking_sigma_m"]
+    assert j["dataset"]["tracking_sigma_m"] == sigma
+    # Held-out error of pure noise with 5 launch values fitted per flight:
+    # sigma * sqrt((2N - 5F - trims) / N) (trims: one per glider with a second wing).
+    n, f = len(rows), len(flights)
+    assert b_noise(j) <= sigma * math.sqrt((2 * n - 5 * f) / n) + 1e-12
+    assert b_noise(j) >= sigma * math.sqrt((2 * n - 5 * f - len(GLIDERS)) / n) - 1e-12
+
+
+def b_noise(j):
+    return j["baseline"]["noise_rmse_m"]
+
+
+def test_blind_camera_error_is_found_with_its_true_scale_and_roll(camera_case):
+    """Truth: camera strength 3 = scale error 0.09, roll 6 degrees (reference_simulator.md section 6)."""
+    _, j, _, _ = camera_case
+    assert j["verdict"] == "camera", j["summary"]
+    cam = next(e for e in j["effects"] if e["name"] == "camera")
+    assert cam["significant"] and cam["shrink"] > 0.05
+    p = cam["parameters"]
+    # The strengths are fitted with the coefficients held at the baseline's,
+    # which already absorbed part of the effect (a scale error looks like
+    # more drag and lift, a roll like another glide ratio): the fitted values
+    # are biased toward zero (docs/diagnosis.md). They must have the true sign
+    # and between a fifth and 1.5 times the true size.
+    assert 0.2 * 0.09 < p["scale_error"] < 1.5 * 0.09
+    assert 0.2 * 6.0 < p["roll_deg"] < 1.5 * 6.0
+
+
+def test_report_has_the_page_and_its_plots(camera_case):
+    _, j, rep, _ = camera_case
+    page = (rep / "index.html").read_text()
+    assert "Verdict: %s" % j["verdict"] in page
+    for png in ("phases.png", "gliders.png", "effects.png", "worst_flights.png", "error_vs_time.png"):
+        assert (rep / png).stat().st_size > 1000, png
+        assert png in page
+    md = (rep / "report.md").read_text()
+    assert j["summary"].split(".")[0] in md
+    assert not [p for p in os.listdir(rep.parent) if ".tmp-" in p]
+
+
+def test_where_the_gap_lies_covers_phases_gliders_features_states_whiteness(camera_case):
+    _, j, _, _ = camera_case
+    w = j["where"]
+    assert {p["phase"] for p in w["phases"]} <= {"launch", "glide", "near_ground"}
+    assert sum(p["points"] for p in w["phases"]) == j["dataset"]["points"]
+    assert sorted(g["glider"] for g in w["gliders"]) == sorted(GLIDERS)
+    assert {f["feature"] for f in w["features"]} >= {"main_aspect_ratio", "tail_volume", "wing_loading_n_m2"}
+    assert set(w["states"]) >= {"alpha_deg", "pitch_rate_deg_s", "height_m"}
+    assert "structured" in w["whiteness"]
+
+
+def test_progress_goes_to_stderr(camera_case):
+    _, _, _, r = camera_case
+    lines = [l for l in r.stderr.splitlines() if l.startswith("[")]
+    assert len(lines) > 10
+    assert "fold" in r.stderr and "held-out" in r.stderr
+
+
+def test_null_data_give_no_discovery(tmp_path):
+    """Truth: every effect off (the reference's baseline), so no effect may be significant."""
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    msgs = []
+    j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, progress=lambda p: msgs.append(p))
+    assert j["format"] == "pteromys-diagnosis/1"
+    assert [e["name"] for e in j["effects"] if e["significant"]] == []
+    assert j["verdict"] == "none", j["summary"]
+    assert msgs and msgs[-1]["stage"] == "done" and msgs[-1]["step"] == msgs[-1]["steps"]
+
+
+@pytest.mark.parametrize("args,words", [
+    (["diagnose"], "missing DATASET"),
+    (["diagnose", "/nonexistent/dataset.json", "--json", "OUT"], "dataset"),
+    (["diagnose", "DS", "--json", "OUT", "--effects", "vortex_shedding"], "unknown effect"),
+    (["diagnose", "DS", "--json", "OUT", "--folds", "1"], "--folds"),
+    (["diagnose", "DS", "--json", "/nonexistent/dir/out.json"], "out.json"),
+])
+def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
+    ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None
+    out = tmp_path / "out.json"
+    a = [str(ds) if x == "DS" else str(out) if x == "OUT" else x for x in args]
+    r = run(a)
+    assert r.returncode != 0
+    err = r.stderr.strip().splitlines()
+    assert len(err) == 1 and words in err[0], r.stderr
+    assert not out.exists()
+
+
+def test_two_gliders_are_too_few_for_leave_gliders_out(tmp_path):
+    gl = _gliders(tmp_path)
+    for g in GLIDERS[2:]:
+        os.remove(gl / (g + ".glider.json"))
+    ds = tmp_path / "two"
+    assert run(["generate", gl, "-o", ds, "--flights-per-glider", "3", "--quiet", "--effects", "baseline"]).returncode == 0
+    out = tmp_path / "out.json"
+    r = run(["diagnose", ds / "dataset.json", "--json", out])
+    assert r.returncode != 0 and "at least 3 gliders" in r.stderr
+    assert not out.exists()
+
+
+def test_help_lists_the_command():
+    r = run(["--help"])
+    assert "diagnose" in r.stdout + r.stderr
+    r = run(["diagnose", "--help"])
+    assert r.returncode == 0 and "--report" in r.stdout
