@@ -361,6 +361,11 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
           const Vec2 pred3{C.w.x + (C.w.x - B.w.x) + acc.x, C.w.y + (C.w.y - B.w.y) + acc.y};
           for (const auto& D : O3) {
             const double e3 = std::hypot(D.w.x - pred3.x, D.w.y - pred3.y);
+            // and move on over the four frames: a static object whose centroid
+            // flickers between two spots (a poster's edge) goes back and forth
+            const double net = std::hypot(D.w.x - A.w.x, D.w.y - A.w.y) / (3 * dt_frame);
+            const double same_way = (B.w.x - A.w.x) * (D.w.x - C.w.x) + (B.w.y - A.w.y) * (D.w.y - C.w.y);
+            if (net < o.min_speed_m_s || same_way <= 0) continue;
             if (e3 < 2 * tol && e + e3 < best) best = e + e3, out = {A, B, C, D};
           }
         }
@@ -529,9 +534,27 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
       if (static_cast<int>(raw.pts.size()) < std::max(o.min_points, 3)) continue;
       bool manual = false;
       for (const auto& p : raw.pts) manual |= p.manual;
+      if (manual) continue;
+      // a flight goes somewhere: over its whole duration at least the
+      // slowest launch speed accepted (a landed or static object does not)
+      if (o.ranges.empty()) {
+        const Obs& a = raw.pts.front();
+        const Obs& b = raw.pts.back();
+        const double net = std::hypot(b.w.x - a.w.x, b.w.y - a.w.y) / std::max(b.t - a.t, 1e-9);
+        if (net < o.min_speed_m_s) {
+          for (const auto& p : raw.pts)
+            if (p.cand >= 0) wc[p.frame][p.cand].ok = false;
+          res.notes.push_back("frames " + std::to_string(a.frame) + "-" + std::to_string(b.frame) +
+                              ": a track was left out, it moves " + std::to_string(int(std::lround(net * 100)) / 100.0).substr(0, 4) +
+                              " m/s on average (a static object, not a glider?)");
+          raw.pts.clear();
+          banned = true;
+          continue;
+        }
+      }
       double limit = 0;
       const double sc = scatter(raw.pts, limit);
-      if (manual || sc <= limit) continue;
+      if (sc <= limit) continue;
       for (const auto& p : raw.pts)
         if (p.cand >= 0) wc[p.frame][p.cand].ok = false;
       res.notes.push_back("frames " + std::to_string(raw.pts.front().frame) + "-" + std::to_string(raw.pts.back().frame) +

@@ -165,3 +165,29 @@ def test_existing_dataset_is_kept_unless_asked(scene, dataset):
     r = run(["track", scene["video"], "--calib", scene["calib"], "--glider", GLIDER, "-o", dataset, "--quiet"])
     _refused(r, "already holds a dataset")
     assert (dataset / "flights.csv").read_text() == before
+
+
+def test_static_clutter_after_the_flight_is_not_a_second_flight(tmp_path):
+    """Regression (found by bench/capture/accuracy_study.py): with the marker
+    detector at 5 m, a red poster edge whose centroid flickered between two
+    spots 11 px apart looked like a slow launch after the glider had left the
+    image and became a second 'flight' 7 m away from the glider."""
+    import numpy as np
+    import pteromys
+    import pteromys.capture as cap
+    f = pteromys.reference_simulate(GLIDER, speed=9.0, climb_deg=4.0, t_max=2.5)["samples"][:, :4]
+    width = 2 * 5.0 * math.tan(math.radians(33.0))
+    sel = f[:, 1] < f[0, 1] + 0.8 * width
+    cam = cap.synthetic_camera(distance_m=5.0, x_m=f[0, 1] + 0.42 * width, y_m=float(f[sel, 2].mean()), hfov_deg=66.0,
+                               tilt_deg=1.5, roll_deg=-0.8)
+    video = str(tmp_path / "marker.avi")
+    nose = (-0.03, 0.001)
+    r = cap.render_video(video, cam, GLIDER, [f], seed=11, marker=True, marker_at=nose, marker_radius_m=0.008)
+    calib = cap.calibrate(cap.synthetic_points(cam, 4, 3, click_sigma_px=0.3, seed=11, distance_m=5.0))
+    res = cap.track_flights(cap.detect(video, detector="marker"), calib, GLIDER, marker_at=nose)
+    truth = {int(row[1]): row for row in r["truth"]}
+    assert len(res.flights) == 1, [(x["first_frame"], x["last_frame"]) for x in res.flights]
+    fl = res.flights[0]
+    err = np.array([math.hypot(fl["x_m"][i] - truth[int(fr)][3], fl["y_m"][i] - truth[int(fr)][4])
+                    for i, fr in enumerate(fl["frame"])])
+    assert len(err) >= 20 and err.max() < 0.05 and math.sqrt((err ** 2).mean()) <= 0.010, err
