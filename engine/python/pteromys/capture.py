@@ -257,7 +257,9 @@ def plot_tracks(result, path, image=None, calibration=None, truth=None, title=No
             ax.plot(f["x_m"][m], f["y_m"][m], "o", mfc="none", mec="k", ms=8)
     if truth is not None:
         t = _np.asarray(truth)
-        ax.plot(t[:, 3], t[:, 4], "k-", lw=0.7, alpha=0.6, label="truth")
+        for k, fl in enumerate(_np.unique(t[:, 0])):  # one line per rendered flight
+            s = t[t[:, 0] == fl]
+            ax.plot(s[:, 3], s[:, 4], "k-", lw=0.7, alpha=0.6, label="truth" if k == 0 else None)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_aspect("equal", adjustable="datalim")
