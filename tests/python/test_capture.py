@@ -191,3 +191,33 @@ def test_static_clutter_after_the_flight_is_not_a_second_flight(tmp_path):
     err = np.array([math.hypot(fl["x_m"][i] - truth[int(fr)][3], fl["y_m"][i] - truth[int(fr)][4])
                     for i, fr in enumerate(fl["frame"])])
     assert len(err) >= 20 and err.max() < 0.05 and math.sqrt((err ** 2).mean()) <= 0.010, err
+
+
+def test_three_gliders_tracked_into_one_dataset_are_diagnosed(tmp_path):
+    """Videos of three training gliders (three launches each) tracked with
+    --append into one dataset, which `pteromys diagnose` reads. The videos are
+    drawn from flights of the baseline model itself, so the diagnosis must
+    find no gap beyond the tracking noise (verdict 'none')."""
+    data = tmp_path / "data"
+    keys = []
+    for i, stem in enumerate(["t01-rectangular", "t04-tapered-mild", "t07-swept-30"]):
+        g = os.path.join(ROOT, "examples", "training", stem + ".glider.json")
+        key = stem.split("-")[0]
+        keys.append(key)
+        video, points = tmp_path / (key + ".avi"), tmp_path / (key + ".points.json")
+        r = run(["render-video", g, "-o", video, "--launches", "7,6;9,3;11,0", "--distance", "4.5", "--points", points,
+                 "--seed", i + 1, "--quiet"])
+        assert r.returncode == 0, r.stderr
+        r = run(["track", video, "--calib", points, "--glider", g, "-o", data, "--glider-key", key, "--quiet"]
+                + (["--append"] if i else []))
+        assert r.returncode == 0, r.stderr
+    ds = json.load(open(data / "dataset.json"))
+    assert sorted(ds["gliders"]) == keys
+    assert len({r["flight"] for r in read_csv(data / "flights.csv")}) == 9   # one flight per launch
+    out = tmp_path / "diag.json"
+    r = run(["diagnose", data / "dataset.json", "--json", out, "--quiet"])
+    assert r.returncode == 0, r.stderr
+    d = json.load(open(out))
+    assert d["format"] == "pteromys-diagnosis/1"
+    assert d["baseline"]["holdout_rmse_m"] < 0.01
+    assert d["verdict"] == "none", (d["verdict"], d["baseline"])
