@@ -23,6 +23,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import sys
 import tempfile
 import time
@@ -317,6 +318,7 @@ def main():
     with open(args.out + ".tmp", "w") as f:
         json.dump(_finite(results), f, indent=1)
     os.replace(args.out + ".tmp", args.out)
+    shutil.rmtree(keep, ignore_errors=True)  # the three-launch video, kept only for the figures
     log("done in %.0f s; figures in %s, results in %s" % (time.time() - t_start, IMG, args.out))
 
 
