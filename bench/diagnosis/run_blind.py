@@ -33,25 +33,36 @@ EFFECTS = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_
            "added_mass", "wind", "camera"]
 # Camera: 10 frames per second, 15-20 points (1.5-2 s of each flight), 5 cm noise.
 GEN = ["--flights-per-glider", "4", "--frame-rate", "10", "--points", "15-20", "--noise-m", "0.05"]
-DIAG = ["--max-centres", "3", "--polish", "1", "--folds", "4"]
+DIAG = ["--max-centres", "2", "--folds", "4"]
 
 
 def cases(quick):
-    c = []
-    seeds = [21] if quick else [21, 22]
-    for s in ([31] if quick else [31, 32, 33]):
-        c.append({"name": "null-s%d" % s, "truth": [], "strength": {}, "seed": s})
+    """The case list, most informative first (a run stopped early still covers
+    every effect once and the null data)."""
+    c = [{"name": "null-s31", "truth": [], "strength": {}, "seed": 31},
+         {"name": "null-s32", "truth": [], "strength": {}, "seed": 32}]
     for e in EFFECTS:
-        for s in seeds:
-            c.append({"name": "%s-1-s%d" % (e, s), "truth": [e], "strength": {e: 1.0}, "seed": s})
-    if not quick:
-        for e, v in [("pitch_damping", 0.3), ("wind", 0.3), ("camera", 0.3), ("fuselage_drag", 5.0),
-                     ("added_mass", 5.0), ("launch_rotation", 3.0)]:
-            c.append({"name": "%s-%g-s21" % (e, v), "truth": [e], "strength": {e: v}, "seed": 21})
-        c.append({"name": "wind+camera-s41", "truth": ["wind", "camera"], "strength": {"wind": 1.0, "camera": 1.0},
-                  "seed": 41})
-        c.append({"name": "pitch_damping+wind-s42", "truth": ["pitch_damping", "wind"],
-                  "strength": {"pitch_damping": 1.0, "wind": 1.0}, "seed": 42})
+        # Downwash at strength 1 makes these gliders (tuned without it) tumble at
+        # once in the reference: 0.2 is the largest strength that keeps most launches.
+        v = 0.2 if e == "downwash" else 1.0
+        c.append({"name": "%s-%g-s21" % (e, v), "truth": [e], "strength": {e: v}, "seed": 21, "main": True})
+    c.append({"name": "wind+camera-s41", "truth": ["wind", "camera"], "strength": {"wind": 1.0, "camera": 1.0},
+              "seed": 41})
+    c.append({"name": "null-s33", "truth": [], "strength": {}, "seed": 33})
+    c.append({"name": "pitch_damping+wind-s42", "truth": ["pitch_damping", "wind"],
+              "strength": {"pitch_damping": 1.0, "wind": 1.0}, "seed": 42})
+    # Sensitivity with less tracking noise (2 cm instead of 5 cm).
+    for e in ["camera", "pitch_damping"]:  # (pitch damping at 2 cm did not finish in the recorded session)
+        c.append({"name": "%s-1-n2-s21" % e, "truth": [e], "strength": {e: 1.0}, "seed": 21,
+                  "gen": ["--noise-m", "0.02"]})
+    if quick:
+        return c
+    for e, v in [("camera", 0.3), ("wind", 0.3), ("pitch_damping", 0.3), ("fuselage_drag", 5.0),
+                 ("added_mass", 5.0), ("launch_rotation", 3.0)]:
+        c.append({"name": "%s-%g-s21" % (e, v), "truth": [e], "strength": {e: v}, "seed": 21})
+    for e in EFFECTS:
+        v = 0.2 if e == "downwash" else 1.0
+        c.append({"name": "%s-%g-s22" % (e, v), "truth": [e], "strength": {e: v}, "seed": 22, "main": True})
     return c
 
 
@@ -73,7 +84,8 @@ def one(case, args, gl_dir):
     os.makedirs(d, exist_ok=True)
     log = os.path.join(d, "log.txt")
     pt = os.path.join(args.build, "bin", "pteromys")
-    gen = [pt, "generate", gl_dir, "-o", os.path.join(d, "data"), "--seed", str(case["seed"]), "--quiet"] + GEN
+    gen = [pt, "generate", gl_dir, "-o", os.path.join(d, "data"), "--seed", str(case["seed"]), "--quiet"] + GEN + \
+        case.get("gen", [])
     if case["truth"]:
         gen += ["--effects", ",".join(case["truth"]),
                 "--strength", ",".join("%s=%g" % kv for kv in case["strength"].items())]
@@ -105,17 +117,40 @@ def strength_of(e, params):
     return params.get("strength", 0.0)
 
 
+MIN_SHRINK = 0.05  # the engine's default (DiagnoseOptions::min_shrink)
+
+
+def decide(r):
+    """Significance and verdict from the stored tests with the engine's final
+    rule (runs made with an older --min-shrink are re-decided the same way)."""
+    for e in r["effects"]:
+        e["significant"] = bool(e["likelihood_ratio"]["pass"] and e["shrink"] >= MIN_SHRINK and
+                                e["cross_validation"]["delta_chi2"] > e["cross_validation"]["threshold"])
+    sig = [e["name"] for e in r["effects"] if e["significant"]]
+    if sig:
+        r["verdict"] = sig[0]
+    elif r["baseline"]["holdout_chi2_ratio"] <= 1.3:
+        r["verdict"] = "none"
+    else:
+        r["verdict"] = "unexplained"
+    return r
+
+
 def summarise(results):
+    results = [(c, decide(r)) for c, r in results]
     labels = EFFECTS + ["none", "unexplained"]
     conf = {t: {p: 0 for p in labels} for t in EFFECTS + ["none"]}
     rows = []
     single = [(c, r) for c, r in results if len(c["truth"]) == 1]
-    nominal = [(c, r) for c, r in single if list(c["strength"].values())[0] == 1.0]
+    nominal = [(c, r) for c, r in single if c.get("main")]
     nulls = [(c, r) for c, r in results if not c["truth"]]
     for c, r in nominal + nulls:
         conf[c["truth"][0] if c["truth"] else "none"][r["verdict"]] += 1
     top1 = sum(1 for c, r in nominal if r["verdict"] == c["truth"][0])
-    false_disc = sum(1 for c, r in nulls if r["verdict"] != "none")
+    # A false discovery: an effect declared on data without any ("unexplained"
+    # claims no effect and is not one).
+    false_disc = sum(1 for c, r in nulls if r["verdict"] in EFFECTS)
+    null_none = sum(1 for c, r in nulls if r["verdict"] == "none")
     sig_null = sum(sum(1 for e in r["effects"] if e["significant"]) for c, r in nulls)
     for c, r in results:
         b = r["baseline"]
@@ -135,7 +170,7 @@ def summarise(results):
         rows.append(row)
     ratios = [x["shrink_vs_oracle"] for x in rows if "shrink_vs_oracle" in x and x["verdict"] == x["truth"]]
     return {"confusion": conf, "top1": top1, "single_nominal": len(nominal), "null_false": false_disc,
-            "nulls": len(nulls), "significant_effects_on_null": sig_null, "rows": rows,
+            "nulls": len(nulls), "null_none": null_none, "significant_effects_on_null": sig_null, "rows": rows,
             "median_shrink_vs_oracle_when_right": sorted(ratios)[len(ratios) // 2] if ratios else None}
 
 
@@ -144,13 +179,14 @@ def markdown(s):
     short = {"pitch_damping": "pd", "downwash": "dw", "finite_span": "fs", "fuselage_drag": "fd",
              "ground_effect": "ge", "launch_rotation": "lr", "added_mass": "am", "wind": "wi", "camera": "ca",
              "none": "none", "unexplained": "unexpl"}
-    out = "Confusion matrix (rows: truth, strength 1 and null; columns: verdict)\n\n"
+    out = "Confusion matrix (rows: truth, main strength and null; columns: verdict)\n\n"
     out += "| truth \\ verdict | " + " | ".join(short[l] for l in labels) + " |\n|---|" + "---|" * len(labels) + "\n"
     for t, row in s["confusion"].items():
         out += "| %s | " % t + " | ".join(str(row[l]) if row[l] else "." for l in labels) + " |\n"
-    out += "\nTop-1 attribution at strength 1: %d of %d; null datasets with a false discovery: %d of %d " \
-           "(significant effects on null data: %d)\n\n" % (s["top1"], s["single_nominal"], s["null_false"], s["nulls"],
-                                                           s["significant_effects_on_null"])
+    out += "\nTop-1 attribution at the main strength: %d of %d; null datasets with a false discovery: %d of %d " \
+           "(verdict none: %d; significant effects on null data: %d)\n\n" % (
+               s["top1"], s["single_nominal"], s["null_false"], s["nulls"], s["null_none"],
+               s["significant_effects_on_null"])
     out += "| case | truth | strength | verdict | true effect's rank | baseline held-out | noise floor | " \
            "oracle shrink | true effect's shrink | / oracle | fitted strength | time |\n|" + "---|" * 12 + "\n"
     for r in s["rows"]:
@@ -167,22 +203,7 @@ def markdown(s):
     return out
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "blind"))
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--quick", action="store_true")
-    args = ap.parse_args()
-    os.makedirs(args.out, exist_ok=True)
-    gl_dir = os.path.join(args.out, "gliders")
-    os.makedirs(gl_dir, exist_ok=True)
-    for g in GLIDERS:
-        src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
-        dst = os.path.join(gl_dir, g + ".glider.json")
-        if not os.path.isfile(dst):
-            with open(src) as f, open(dst, "w") as o:
-                o.write(f.read())
+def run_all(args, gl_dir):
     results = []
     with cf.ThreadPoolExecutor(args.jobs) as ex:
         futs = [ex.submit(one, c, args, gl_dir) for c in cases(args.quick)]
@@ -196,6 +217,35 @@ def main():
             print("%-28s truth %-28s verdict %-16s (%.0f s)" % (c["name"], "+".join(c["truth"]) or "none",
                                                                 r["verdict"], r["timings"].get("total_s", 0)),
                   file=sys.stderr, flush=True)
+    return results
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "blind"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--summarise", action="store_true", help="only tabulate the cases that have finished")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    gl_dir = os.path.join(args.out, "gliders")
+    os.makedirs(gl_dir, exist_ok=True)
+    for g in GLIDERS:
+        src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
+        dst = os.path.join(gl_dir, g + ".glider.json")
+        if not os.path.isfile(dst):
+            with open(src) as f, open(dst, "w") as o:
+                o.write(f.read())
+    results = []
+    if args.summarise:
+        for c in cases(args.quick):
+            res = os.path.join(args.out, c["name"], "diagnosis.json")
+            if os.path.isfile(res):
+                with open(res) as f:
+                    results.append((c, json.load(f)))
+    else:
+        results = run_all(args, gl_dir)
     results.sort(key=lambda cr: cr[0]["name"])
     s = summarise(results)
     with open(os.path.join(args.out, "summary.json"), "w") as f:

@@ -231,7 +231,7 @@ const bool registered_diagnose = register_command(
          "  --effects A,B,...       candidates to test (default: the whole library)\n"
          "  --no-trim               no build-trim error per glider\n"
          "  --alpha A               family-wise level of the likelihood-ratio tests (default 0.01)\n"
-         "  --min-shrink F          held-out RMSE must fall by this fraction (default 0.02)\n"
+         "  --min-shrink F          held-out RMSE must fall by this fraction (default 0.05)\n"
          "  --no-holdout-test       do not require the held-out chi-square confirmation\n"
          "  --none-tolerance T      'none' when the held-out chi-square ratio is <= 1 + T\n"
          "                          (default 0.3)\n"

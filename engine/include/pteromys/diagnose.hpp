@@ -58,7 +58,7 @@ struct DiagnoseOptions {
   double alpha = 0.01;
   /// Cross-validation margin: a significant effect must also lower the
   /// held-out RMSE by at least this fraction ...
-  double min_shrink = 0.02;
+  double min_shrink = 0.05;
   /// ... and its held-out improvement in noise units, (SSE_0 - SSE_e) / sigma_eff^2,
   /// must exceed the chi-square quantile of its parameter count at level alpha / m.
   bool holdout_chi2_test = true;

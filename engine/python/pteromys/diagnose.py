@@ -18,7 +18,7 @@ __all__ = ["diagnose", "diagnosis_report", "effect_library", "glider_features", 
            "chi2_sf", "chi2_isf"]
 
 
-def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.02,
+def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.05,
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, threads=0, progress=None):
