@@ -36,7 +36,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     print_help();
-    return args.empty() ? 2 : 0;
+    if (!args.empty()) return 0;
+    std::cerr << "pteromys: error: no command given (usage above; see pteromys --help)\n";
+    return 2;
   }
   if (args[0] == "--version") {
     std::cout << "pteromys " << pteromys::kVersion << "\n";
