@@ -6,6 +6,8 @@
 // elements whose areas sum to each wing's area, and its plates either build
 // or are refused with an InputError.
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -15,6 +17,7 @@
 #include "pteromys/elements.hpp"
 #include "pteromys/fabrication.hpp"
 #include "pteromys/geometry.hpp"
+#include "pteromys/glider.hpp"
 #include "pteromys/io.hpp"
 
 using namespace pteromys;
@@ -69,7 +72,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   // Validation goes through the file reader, as a user's file would.
   Glider v;
-  if (!accepts([&] { v = glider_from_json(glider_to_json(g)); })) return 0;
+  if (!accepts([&] {
+        v = glider_from_json(glider_to_json(g));
+        validate(v);
+      }))
+    return 0;
   for (const auto& w : v.wings) {
     WingElements el;
     if (!accepts([&] { el = slice_wing(w.outline, 0.005); }))
@@ -80,6 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!(std::fabs(sum - area) <= 1e-9 + 1e-6 * area))
       fuzz_abort("element areas sum to " + std::to_string(sum) + ", the wing's area is " + std::to_string(area));
   }
-  accepts([&] { (void)slotted_plates(v); });
+  const bool built = accepts([&] { (void)slotted_plates(v); });
+  if (std::getenv("PTEROMYS_FUZZ_VERBOSE")) std::fprintf(stderr, "valid glider; plates %s\n", built ? "built" : "refused");
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "fuzz_support.hpp"
+#include "pteromys/glider.hpp"
 #include "pteromys/io.hpp"
 #include "pteromys/mass.hpp"
 
@@ -17,10 +18,18 @@ using pteromys_fuzz::fuzz_abort;
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   Glider g;
-  if (!accepts([&] { g = glider_from_json_text(text); })) return 0;
+  // As load_glider reads a file: parse, then validate.
+  if (!accepts([&] {
+        g = glider_from_json_text(text);
+        validate(g);
+      }))
+    return 0;
   const std::string again = glider_to_json(g).dump();
   Glider g2;
-  if (!accepts([&] { g2 = glider_from_json_text(again); }))
+  if (!accepts([&] {
+        g2 = glider_from_json_text(again);
+        validate(g2);
+      }))
     fuzz_abort("a glider the reader accepted does not read back after writing");
   if (glider_to_json(g2).dump() != again) fuzz_abort("write -> read -> write is not stable");
   const MassProperties m = mass_properties(g);

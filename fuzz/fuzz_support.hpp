@@ -28,6 +28,7 @@ bool accepts(F&& f) {
     return true;
   } catch (const pteromys::InputError& e) {
     if (std::string(e.what()).empty()) fuzz_abort("InputError without a message");
+    if (std::getenv("PTEROMYS_FUZZ_VERBOSE")) std::fprintf(stderr, "rejected: %s\n", e.what());
     return false;
   } catch (const std::exception& e) {
     fuzz_abort(std::string("unexpected exception (not an InputError): ") + e.what());

@@ -33,7 +33,7 @@ def geometry(fuselage, wings, ballast=None, thickness=2, density=1):
 # Coordinates in 5 mm units (mount y in mm, angle in 0.2 deg).
 FUS = [(0, 0), (-60, 2), (-60, 8), (-56, 8), (-50, 3), (0, 3)]
 MAIN = {"x0": -8, "x1": -24, "half": [(-10, 40), (-24, 40)], "mx": 0, "my": 12, "angle": 10}
-TAIL = {"x0": -50, "x1": -60, "half": [(-52, 12), (-60, 12)], "mx": 0, "my": 12, "angle": 0}
+TAIL = {"x0": -50, "x1": -57, "half": [(-52, 12), (-57, 12)], "mx": 0, "my": 25, "angle": 0}
 SWEPT = {"x0": -6, "x1": -20, "half": [(-16, 36), (-22, 36)], "mx": 0, "my": 12, "angle": 10}
 DELTA = {"x0": -4, "x1": -30, "half": [(-30, 30)], "mx": 0, "my": 12, "angle": 10}
 CRESCENT = {"x0": -8, "x1": -22, "half": [(-10, 20), (-20, 40), (-26, 42), (-22, 20)], "mx": 0, "my": 12, "angle": 5}
