@@ -29,6 +29,9 @@ def materialise(case, tmp):
         path = os.path.join(d, name)
         if content.startswith("@copy "):
             shutil.copyfile(content[len("@copy "):].format(**subst), path)
+        elif content.startswith("@edit "):
+            with open(path, "w") as f:
+                f.write(corpus.edited_model(ROOT, content[len("@edit "):]))
         else:
             with open(path, "w") as f:
                 f.write(content)

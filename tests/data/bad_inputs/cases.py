@@ -101,6 +101,14 @@ CASES = [
           ["neural"]),
     model("model_rbf_no_centres", "an RBF model without centres",
           json.dumps({"format": "pteromys-model/1", "type": "rbf"}), ["missing key 'scales'"]),
+    model("model_centres_not_list", "centres is a string", "@edit centres='many'", ["centres must be a non-empty list"]),
+    model("model_centre_missing_cl", "a centre without its lift coefficient", "@edit centres[0].cl=None",
+          ["centres[0]", "cl"]),
+    model("model_overflowing_number", "a scale of 1e999", "@edit scales.alpha_deg=1e999", ["not a finite number"]),
+    model("model_negative_scale", "a negative RBF scale", "@edit scales.alpha_deg=-3",
+          ["scales must be positive"]),
+    model("model_limit_string", "alpha_limit_deg as a string", "@edit alpha_limit_deg='40'",
+          ["alpha_limit_deg must be a number"]),
     # ------------------------------------------------------------ commands
     cmd("no_command", "pteromys with no command", [], ["no command given"]),
     cmd("unknown_command", "pteromys fly", ["fly"], ["unknown command", "fly"]),
@@ -143,8 +151,39 @@ CASES = [
 ]
 
 
-def table():
+def edited_model(root, edit):
+    """The shipped fitted model with one edit 'path=python-literal' (None deletes;
+    1e999 is written as the JSON number 1e999, which overflows a double)."""
+    import ast
+    import re
+    with open(root + "/engine/models/fitted.model.json") as f:
+        m = json.load(f)
+    path, value = edit.split("=", 1)
+    keys = [int(k) if k.isdigit() else k for k in re.findall(r"[^.\[\]]+", path)]
+    obj = m
+    for k in keys[:-1]:
+        obj = obj[k]
+    v = ast.literal_eval(value)
+    if v is None:
+        del obj[keys[-1]]
+    else:
+        obj[keys[-1]] = "@@OVERFLOW@@" if value == "1e999" else v
+    return json.dumps(m, indent=1).replace('"@@OVERFLOW@@"', "1e999")
+
+
+def glider_cases(root):
+    """The broken glider files of tests/data/broken and the words each message must hold."""
+    with open(root + "/tests/data/broken/expected.json") as f:
+        exp = json.load(f)
+    return sorted(exp.items())
+
+
+def table(root=None):
+    import os
+    root = root or os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..", ".."))
     lines = ["| input | reader / command | exit | message names |", "|---|---|---|---|"]
+    for name, words in glider_cases(root):
+        lines.append("| tests/data/broken/%s | glider file (every command) | 2 | \u201c%s\u201d |" % (name, words))
     for c in CASES:
         lines.append("| %s (`%s`) | %s | %d | %s |" % (c["what"], c["id"], c["reader"], c["exit"],
                                                      ", ".join("\u201c%s\u201d" % w for w in c["words"])))
