@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "pteromys/io.hpp"
 #include "pteromys/types.hpp"
 #include "pteromys/version.hpp"
 
@@ -34,6 +35,7 @@ void print_help() {
 int main(int argc, char** argv) {
   using namespace pteromys::cli;
   std::vector<std::string> args(argv + 1, argv + argc);
+  pteromys::remove_temp_files_on_signal();
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     print_help();
     if (!args.empty()) return 0;

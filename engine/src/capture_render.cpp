@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "pteromys/io.hpp"
 #include "pteromys/capture_render.hpp"
 #include "pteromys/mass.hpp"
 
@@ -310,7 +311,7 @@ RenderResult render_video(const std::string& path, const Calibration& cam, const
   const auto dot = path.find_last_of('.');
   const auto slash = path.find_last_of('/');
   const std::string ext = dot != std::string::npos && (slash == std::string::npos || dot > slash) ? path.substr(dot) : "";
-  const std::string tmp = path.substr(0, path.size() - ext.size()) + ".partial-" + std::to_string(::getpid()) + ext;
+  const std::string tmp = temp_path_for(path, ext);
   const int fourcc = cv::VideoWriter::fourcc(opt.fourcc[0], opt.fourcc[1], opt.fourcc[2], opt.fourcc[3]);
   cv::VideoWriter writer;
   const cv::Size size(cam.width, cam.height);
@@ -432,10 +433,22 @@ RenderResult render_video(const std::string& path, const Calibration& cam, const
     std::remove(tmp.c_str());
     throw;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError("cannot write the video '" + path + "': rename failed");
+  // OpenCV's writer does not report write errors (a full disk, a size
+  // limit): read the video back and count its frames before it replaces
+  // anything.
+  {
+    cv::VideoCapture check(tmp);
+    int n = 0;
+    cv::Mat f;
+    while (check.isOpened() && check.read(f)) ++n;
+    if (n != res.frames) {
+      std::remove(tmp.c_str());
+      throw InputError("cannot write the video '" + path + "': it holds " + std::to_string(n) + " of " +
+                       std::to_string(res.frames) +
+                       " frames when read back (a full disk or a file size limit?); the old file, if any, is unchanged");
+    }
   }
+  commit_temp_file(tmp, path);
   res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
   return res;
 }

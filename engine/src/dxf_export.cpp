@@ -1,4 +1,5 @@
 // DXF for laser cutting, written with dxflib (docs/fabrication.md, "DXF").
+#include "pteromys/io.hpp"
 #include "pteromys/dxf_export.hpp"
 
 #include <algorithm>
@@ -110,7 +111,7 @@ Layout layout_plates(const PlateSet& s, const SheetOptions& o) {
 }
 
 void write_dxf(const PlateSet& s, const Layout& l, const std::string& path) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  const std::string tmp = temp_path_for(path);
   {
     DL_Dxf dxf;
     std::unique_ptr<DL_WriterA> dw(dxf.out(tmp.c_str(), DL_Codes::AC1015));
@@ -240,10 +241,8 @@ void write_dxf(const PlateSet& s, const Layout& l, const std::string& path) {
     dw->dxfEOF();
     dw->close();
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError("cannot write '" + path + "': rename failed");
-  }
+  // dxflib does not report write errors: the file must end with its EOF marker.
+  commit_temp_file(tmp, path, "EOF");
 }
 
 }  // namespace pteromys

@@ -1,6 +1,13 @@
 #include "pteromys/io.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <mutex>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
 #include <cmath>
 #include <dirent.h>
 #include <cstdio>
@@ -93,23 +100,145 @@ std::string read_file(const std::string& path) {
   return s.str();
 }
 
-void write_file_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw InputError("cannot write '" + path + "': directory missing or not writable");
-    f << text;
-    f.flush();
-    if (!f) {
-      f.close();
-      std::remove(tmp.c_str());
-      throw InputError("cannot write '" + path + "': write failed (disk full?)");
+namespace {
+
+std::string errno_text(int e) {
+  if (e == ENOSPC) return "the disk is full";
+  if (e == EFBIG) return "the file size limit was reached";
+  if (e == EDQUOT) return "the disk quota is exceeded";
+  if (e == EACCES || e == EPERM) return "permission denied";
+  if (e == ENOENT || e == ENOTDIR) return "the directory does not exist";
+  if (e == EROFS) return "the file system is read-only";
+  return std::strerror(e);
+}
+
+void fsync_dir_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (fd >= 0) {
+    ::fsync(fd);  // best effort: some file systems refuse fsync on directories
+    ::close(fd);
+  }
+}
+
+// Temporary files being written, for remove_temp_files_on_signal(): fixed
+// slots of plain chars, so that a signal handler can read them safely.
+constexpr int kTempSlots = 64;
+constexpr std::size_t kTempPathMax = 4096;
+char g_temp_paths[kTempSlots][kTempPathMax];
+std::atomic<bool> g_temp_used[kTempSlots];
+std::mutex g_temp_mutex;
+
+void register_temp(const std::string& tmp) {
+  if (tmp.size() + 1 > kTempPathMax) return;
+  std::lock_guard<std::mutex> lock(g_temp_mutex);
+  for (int i = 0; i < kTempSlots; ++i) {
+    if (g_temp_used[i].load()) continue;
+    std::memcpy(g_temp_paths[i], tmp.c_str(), tmp.size() + 1);
+    g_temp_used[i].store(true);
+    return;
+  }
+}
+
+void unregister_temp(const std::string& tmp) {
+  std::lock_guard<std::mutex> lock(g_temp_mutex);
+  for (int i = 0; i < kTempSlots; ++i)
+    if (g_temp_used[i].load() && tmp == g_temp_paths[i]) g_temp_used[i].store(false);
+}
+
+extern "C" void remove_temps_and_reraise(int sig) {
+  for (int i = 0; i < kTempSlots; ++i)
+    if (g_temp_used[i].load()) ::unlink(g_temp_paths[i]);
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+}  // namespace
+
+std::string temp_path_for(const std::string& path, const std::string& suffix) {
+  static std::atomic<unsigned> counter{0};
+  std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + suffix;
+  register_temp(tmp);
+  return tmp;
+}
+
+void remove_temp_files_on_signal() {
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) ::signal(sig, remove_temps_and_reraise);
+}
+
+void commit_temp_file(const std::string& tmp, const std::string& path, const std::string& trailer) {
+  auto fail = [&](const std::string& why) {
+    std::remove(tmp.c_str());
+    unregister_temp(tmp);
+    throw InputError("cannot write '" + path + "': " + why + "; the old file, if any, is unchanged");
+  };
+  const int fd = ::open(tmp.c_str(), O_RDWR);
+  if (fd < 0) fail(errno_text(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || st.st_size == 0) {
+    ::close(fd);
+    fail("the writer produced an empty file");
+  }
+  if (!trailer.empty()) {
+    const off_t n = std::min<off_t>(st.st_size, static_cast<off_t>(trailer.size()) + 64);
+    std::string tail(static_cast<std::size_t>(n), '\0');
+    const ssize_t got = ::pread(fd, tail.data(), tail.size(), st.st_size - n);
+    while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.back()))) tail.pop_back();
+    if (got != n || tail.size() < trailer.size() || tail.compare(tail.size() - trailer.size(), trailer.size(), trailer) != 0) {
+      ::close(fd);
+      fail("the file was cut short (" + std::to_string(st.st_size) + " bytes; a full disk or a file size limit?)");
     }
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError("cannot write '" + path + "': rename failed");
+  if (::fsync(fd) != 0) {
+    const int e = errno;
+    ::close(fd);
+    fail(errno_text(e));
   }
+  if (::close(fd) != 0) fail(errno_text(errno));
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed: " + errno_text(errno));
+  unregister_temp(tmp);
+  fsync_dir_of(path);
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = temp_path_for(path);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int e = errno;
+    unregister_temp(tmp);
+    throw InputError("cannot write '" + path + "': " +
+                     (e == ENOENT || e == ENOTDIR ? std::string("directory missing or not writable") : errno_text(e)));
+  }
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      const int e = w < 0 ? errno : ENOSPC;
+      ::close(fd);
+      std::remove(tmp.c_str());
+      unregister_temp(tmp);
+      throw InputError("cannot write '" + path + "': write failed after " + std::to_string(done) + " of " +
+                       std::to_string(text.size()) + " bytes (" + errno_text(e) +
+                       "); the old file, if any, is unchanged");
+    }
+    done += static_cast<std::size_t>(w);
+  }
+  if (::close(fd) != 0) {
+    const int e = errno;
+    std::remove(tmp.c_str());
+    unregister_temp(tmp);
+    throw InputError("cannot write '" + path + "': " + errno_text(e));
+  }
+  if (text.empty()) {  // commit_temp_file refuses empty files; an empty text is legitimate here
+    const bool ok = std::rename(tmp.c_str(), path.c_str()) == 0;
+    if (!ok) std::remove(tmp.c_str());
+    unregister_temp(tmp);
+    if (!ok) throw InputError("cannot write '" + path + "': rename failed");
+    return;
+  }
+  commit_temp_file(tmp, path);
 }
 
 std::vector<std::string> glider_files_in(const std::string& dir) {

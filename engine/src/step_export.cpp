@@ -1,5 +1,6 @@
 // STEP for 3D printing and CAD exchange, written with OpenCASCADE's XCAF
 // (docs/fabrication.md, "STEP").
+#include "pteromys/io.hpp"
 #include "pteromys/step_export.hpp"
 
 #include <cmath>
@@ -120,17 +121,15 @@ void write_doc(const std::vector<std::pair<std::string, TopoDS_Shape>>& shapes, 
   QuietOcct quiet;
   STEPCAFControl_Writer w;
   w.SetNameMode(Standard_True);
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + ".step";
+  const std::string tmp = temp_path_for(path, ".step");
   const bool ok = w.Transfer(doc, STEPControl_AsIs) && w.Write(tmp.c_str()) == IFSelect_RetDone;
   app->Close(doc);
   if (!ok) {
     std::remove(tmp.c_str());
     throw InputError("cannot write '" + path + "': directory missing or not writable");
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError("cannot write '" + path + "': rename failed");
-  }
+  // OCCT reports success even when the disk filled up: check the file's end.
+  commit_temp_file(tmp, path, "END-ISO-10303-21;");
 }
 
 }  // namespace

@@ -45,8 +45,28 @@ nlohmann::json report_to_json(const Flyability& f);
 std::string trajectories_csv(const Flyability& f);
 
 /// Writes text to `path` through a temporary file and a rename, so that a
-/// failure never leaves a partly written file. Throws InputError on failure.
+/// failure (a full disk, a file size limit, a kill) leaves the old file or the
+/// new one, never a fragment. Every write is checked, the data is flushed to
+/// disk (fsync) before the rename. Throws InputError on failure.
 void write_file_atomic(const std::string& path, const std::string& text);
+
+/// A fresh temporary name beside `path` (same directory, so that the rename is
+/// atomic), ending in `suffix` (some writers choose the format by extension).
+std::string temp_path_for(const std::string& path, const std::string& suffix = "");
+
+/// Makes a temporary file that a library has written the output at `path`:
+/// checks that it is complete (non-empty; ends with `trailer` when one is
+/// given, ignoring trailing white space), flushes it to disk, renames it into
+/// place and syncs the directory. On failure removes the temporary file and
+/// throws InputError naming `path` (the old file, if any, is untouched).
+void commit_temp_file(const std::string& tmp, const std::string& path, const std::string& trailer = "");
+
+/// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT that delete the
+/// temporary files of writes in progress (from temp_path_for) and then end the
+/// process as the signal would. (SIGKILL cannot be caught: after it, the
+/// target is still the old file or the new one, and a `*.tmp-PID-N` file may
+/// remain beside it.)
+void remove_temp_files_on_signal();
 std::string read_file(const std::string& path);
 
 /// Paths of the *.glider.json files directly in `dir`, sorted. Throws

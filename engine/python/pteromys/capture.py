@@ -21,7 +21,7 @@ import os as _os
 
 import numpy as _np
 
-from . import _core
+from . import _atomic, _core
 from ._core import CameraCalibration, Detections, TrackResult, VideoFrames  # noqa: F401
 
 __all__ = ["CameraCalibration", "Detections", "TrackResult", "VideoFrames", "calibrate", "load_calibration",
@@ -237,7 +237,7 @@ def plot_calibration(calibration, path, image=None, title=None):
         1000 * calibration.loo_rms_m if calibration.loo_rms_m >= 0 else float("nan")))
     b.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    _atomic.savefig(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -274,5 +274,5 @@ def plot_tracks(result, path, image=None, calibration=None, truth=None, title=No
         b.set_title("tracked points over a frame")
         b.axis("off")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    _atomic.savefig(fig, path, dpi=110)
     plt.close(fig)

@@ -15,7 +15,7 @@ import sys
 
 import numpy as np
 
-from . import _core
+from . import _atomic, _core
 
 __all__ = ["read_dxf_layout", "plot_layout", "plot_assembly", "plot_joints"]
 
@@ -83,7 +83,7 @@ def plot_layout(dxf_path, png_path, title=None):
     ax.set_ylabel("y [mm]")
     ax.set_title(title or os.path.basename(dxf_path) + ": red = cut, blue = engrave")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=170)
+    _atomic.savefig(fig, png_path, dpi=170)
     plt.close(fig)
     return png_path
 
@@ -157,7 +157,7 @@ def plot_assembly(glider, png_path, **options):
     joints = sorted({j["wing"] + ": " + j["type"] for p in plates for j in p["joints"]})
     fig.suptitle("assembled plates; joints " + ", ".join(joints))
     fig.tight_layout()
-    fig.savefig(png_path, dpi=140)
+    _atomic.savefig(fig, png_path, dpi=140)
     plt.close(fig)
     return png_path
 
@@ -226,7 +226,7 @@ def plot_joints(glider, png_path, **options):
         bot.set_ylabel("z [mm]")
         bot.legend(fontsize=7, loc="lower left")
     fig.tight_layout()
-    fig.savefig(png_path, dpi=150)
+    _atomic.savefig(fig, png_path, dpi=150)
     plt.close(fig)
     return png_path
 

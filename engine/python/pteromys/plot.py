@@ -2,6 +2,7 @@
 
 Command line: ``python3 -m pteromys.plot REPORT.json TRAJECTORIES.csv OUT.png``.
 """
+from pteromys import _atomic
 import csv
 import json
 import sys
@@ -57,7 +58,7 @@ def plot_launches(report, trajectories, path, title=None):
     ax.set_title(title or f'{report.get("glider", "")}: {ok}{extra}', fontsize=10)
     ax.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
-    fig.savefig(path)
+    _atomic.savefig(fig, path)
     plt.close(fig)
 
 
