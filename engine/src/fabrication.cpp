@@ -903,8 +903,8 @@ PlateSet slotted_plates(const Glider& g, const FabricationOptions& o) {
   validate(g);
   const double t = o.thickness_m > 0 ? o.thickness_m : g.material.thickness_m;
   check_fabrication_options(o, t);
-  for (const auto& [name, type] : o.joints) {
-    (void)type;
+  for (const auto& joint : o.joints) {
+    const std::string& name = joint.first;  // (clang 14 cannot capture a structured binding)
     if (name == "*") continue;
     if (std::none_of(g.wings.begin(), g.wings.end(), [&](const Wing& w) { return w.name == name; })) {
       std::string names;

@@ -253,10 +253,19 @@ def read_design(obj):
         except O.OutlineError as e:
             problems.append(str(e))
             continue
+        for prop in ("MountX", "MountY", "MountAngle"):
+            v = P.quantity_deg(getattr(w, prop)) if prop == "MountAngle" else P.quantity_mm(getattr(w, prop))
+            if not math.isfinite(v):
+                problems.append("%s: %s is not a finite number (%r)" % (what, prop, v))
         wings.append({"name": wname, "outline_m": [list(p) for p in outline],
                       "mount": {"x_m": P.quantity_mm(w.MountX) * MM, "y_m": P.quantity_mm(w.MountY) * MM,
                                 "angle_deg": P.quantity_deg(w.MountAngle)}})
     t_mm = P.quantity_mm(obj.Thickness)
+    for prop, v in (("Thickness", t_mm), ("Density", obj.Density), ("BallastGrams", obj.BallastGrams),
+                    ("BallastX", P.quantity_mm(obj.BallastX)), ("BallastY", P.quantity_mm(obj.BallastY)),
+                    ("LaunchHeight", P.quantity_mm(obj.LaunchHeight))):
+        if not math.isfinite(v):
+            problems.append("the glider's %s is not a finite number (%r)" % (prop, v))
     if not (t_mm > 0):
         problems.append("the plate thickness must be positive (Thickness = %g mm)" % t_mm)
     if not (obj.Density > 0):

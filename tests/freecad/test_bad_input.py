@@ -52,8 +52,31 @@ def zero_thickness():
 def no_wings():
     g.Wings = []
 
+def nan_angle():                      # a NaN from a macro
+    W["main"].MountAngle = float("nan")
+
+def infinite_density():
+    g.Density = float("inf")
+
 CASES = [open_tail, crossing_tail, missing_fuselage, wing_off_fuselage, cannot_fly, two_outlines,
-         loose_edge, duplicate_names, zero_thickness, no_wings]
+         loose_edge, duplicate_names, zero_thickness, no_wings, nan_angle, infinite_density]
+
+def saved_and_reopened(tag):
+    """Save the document in its bad state, open a copy, read it, recompute it."""
+    import os, shutil
+    path = os.path.join(os.getcwd(), tag + ".FCStd")
+    doc.saveAs(path)
+    copy = os.path.join(os.getcwd(), tag + "-copy.FCStd")
+    shutil.copyfile(path, copy)
+    d2 = App.openDocument(copy)
+    g2 = d2.getObject(g.Name)
+    loaded = {"volume": g2.Shape.Volume, "problems": list(g2.Problems)}
+    d2.recompute()
+    again = {"volume": g2.Shape.Volume, "problems": list(g2.Problems), "status": g2.Status,
+             "flyable": g2.Flyable}
+    App.closeDocument(d2.Name)
+    App.setActiveDocument(doc.Name)
+    return {"loaded": loaded, "recomputed": again}
 RESULT["good"] = state()
 for case in CASES:
     doc.openTransaction(case.__name__)
@@ -61,9 +84,10 @@ for case in CASES:
     doc.commitTransaction()
     n = doc.recompute()
     bad = state()
+    reopened = saved_and_reopened(case.__name__)
     doc.undo()
     doc.recompute()
-    RESULT[case.__name__] = {"bad": bad, "recovered": state()}
+    RESULT[case.__name__] = {"bad": bad, "recovered": state(), "reopened": reopened}
 '''
 
 
@@ -83,6 +107,8 @@ INPUT_ERRORS = {
     "duplicate_names": ["two wings are named 'main'"],
     "zero_thickness": ["thickness must be positive"],
     "no_wings": ["no wing"],
+    "nan_angle": ["wing 'main'", "MountAngle", "not a finite number"],
+    "infinite_density": ["Density", "not a finite number"],
 }
 
 
@@ -104,6 +130,14 @@ def test_input_error_is_named_and_last_good_shape_kept(cases, case):
     assert rec["problems"] == [], rec["problems"]
     assert rec["volume"] == pytest.approx(good["volume"], rel=1e-9)
     assert rec["distances"] == pytest.approx(good["distances"], rel=1e-9)
+    # The document saved in its bad state reopens with the last good shape
+    # and, recomputed, names the same problem.
+    reo = cases[case]["reopened"]
+    assert reo["loaded"]["volume"] == pytest.approx(good["volume"], rel=1e-9)
+    assert reo["recomputed"]["volume"] == pytest.approx(good["volume"], rel=1e-9)
+    again = " ".join(reo["recomputed"]["problems"])
+    for words in INPUT_ERRORS[case]:
+        assert words in again, (case, reo)
 
 
 def test_design_that_cannot_fly_shows_reasons(cases):
