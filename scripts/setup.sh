@@ -14,6 +14,7 @@ PKGS=(
   libgtest-dev libbenchmark-dev
   python3-numpy python3-pytest python3-ezdxf python3-matplotlib python3-opencv libopencv-dev
   freecad xvfb xauth
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # The whole test suite on a fresh Debian 12 machine: set up, build, then run
-# GoogleTest (engine) and pytest (command line, Python module, FreeCAD) via ctest.
+# GoogleTest (engine) and pytest (command line, Python module, FreeCAD) via ctest,
+# then the engine tests and fuzz corpora again under ASan + UBSan + LSan
+# (scripts/sanitize.sh, docs/reliability.md). Any failure fails the script.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 "$ROOT/scripts/setup.sh"
 cd "$ROOT/build"
 ctest --output-on-failure -j"$(nproc)" "$@"
+"$ROOT/scripts/sanitize.sh"

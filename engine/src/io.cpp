@@ -201,6 +201,15 @@ void commit_temp_file(const std::string& tmp, const std::string& path, const std
   fsync_dir_of(path);
 }
 
+bool rename_temp_into_place(const std::string& tmp, const std::string& path) {
+  const bool ok = std::rename(tmp.c_str(), path.c_str()) == 0;
+  if (ok) {
+    unregister_temp(tmp);
+    fsync_dir_of(path);
+  }
+  return ok;
+}
+
 void write_file_atomic(const std::string& path, const std::string& text) {
   const std::string tmp = temp_path_for(path);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);

@@ -126,9 +126,11 @@ void write_doc(const std::vector<std::pair<std::string, TopoDS_Shape>>& shapes, 
   app->Close(doc);
   if (!ok) {
     std::remove(tmp.c_str());
-    throw InputError("cannot write '" + path + "': directory missing or not writable");
+    throw InputError("cannot write '" + path +
+                     "': OpenCASCADE could not write it (directory missing or not writable, the disk full or a "
+                     "file size limit); the old file, if any, is unchanged");
   }
-  // OCCT reports success even when the disk filled up: check the file's end.
+  // Checked again: the file must be complete before it replaces anything.
   commit_temp_file(tmp, path, "END-ISO-10303-21;");
 }
 

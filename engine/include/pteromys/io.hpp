@@ -61,6 +61,11 @@ std::string temp_path_for(const std::string& path, const std::string& suffix = "
 /// throws InputError naming `path` (the old file, if any, is untouched).
 void commit_temp_file(const std::string& tmp, const std::string& path, const std::string& trailer = "");
 
+/// Renames a complete temporary file (from temp_path_for, already checked and
+/// synced) into place; returns false when the rename fails. For writers that
+/// commit several files together.
+bool rename_temp_into_place(const std::string& tmp, const std::string& path);
+
 /// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT that delete the
 /// temporary files of writes in progress (from temp_path_for) and then end the
 /// process as the signal would. (SIGKILL cannot be caught: after it, the
