@@ -104,7 +104,7 @@ int whole(const Args& a, const std::string& k, int def, int lo, int hi) {
 int run_generate(const std::vector<std::string>& argv) {
   const Args a = parse_args(argv,
                             {"-o", "--output", "--flights-per-glider", "--seed", "--noise-m", "--frame-rate",
-                             "--effects", "--strength", "--points", "--window", "--speed", "--climb",
+                             "--effects", "--strength", "--points", "--window", "--speed", "--speed-relative", "--retrim", "--climb",
                              "--height", "--wind", "--threads", "--dt", "--span-panels", "--chord-panels",
                              "--launch-rotation", "--camera-scale-error", "--camera-roll-deg"},
                             {"--quiet", "--strict"});
@@ -139,9 +139,25 @@ int run_generate(const std::vector<std::string>& argv) {
   else if (win == "landing") o.window = TrackWindow::Landing;
   else if (win == "whole") o.window = TrackWindow::Whole;
   else throw InputError("--window must be launch, landing or whole, got '" + win + "'");
-  const auto sp = range(a.get("--speed", "7:11"), "--speed");
-  o.launcher.speed_min = sp.first;
-  o.launcher.speed_max = sp.second;
+  if (a.has("--speed") && a.has("--speed-relative"))
+    throw InputError("give launch speeds once: --speed (m/s) or --speed-relative (glide speeds)");
+  if (a.has("--speed-relative")) {
+    const auto sr = range(a.get("--speed-relative"), "--speed-relative");
+    if (!(sr.first >= 0.3 && sr.second <= 5.0))
+      throw InputError("--speed-relative needs factors of the glide speed between 0.3 and 5 (for example 1:1.5)");
+    o.launcher.speed_relative = true;
+    o.launcher.speed_min = sr.first;
+    o.launcher.speed_max = sr.second;
+    o.launcher.speed_sigma = 0.04;  // 4 % of the glide speed (0.25 m/s at 6 m/s)
+  } else {
+    const auto sp = range(a.get("--speed", "7:11"), "--speed");
+    o.launcher.speed_min = sp.first;
+    o.launcher.speed_max = sp.second;
+  }
+  if (a.has("--retrim")) {
+    o.retrim = true;
+    o.retrim_alpha_deg = a.number("--retrim", 4.0);
+  }
   const auto cl = range(a.get("--climb", "0:10"), "--climb");
   o.launcher.climb_min_deg = cl.first;
   o.launcher.climb_max_deg = cl.second;
@@ -188,11 +204,14 @@ int run_generate(const std::vector<std::string>& argv) {
   for (const auto& n : Effects::names()) eff[n] = {{"on", o.effects[n].on}, {"strength", o.effects[n].strength}};
   gen["effect_switches"] = eff;
   gen["seed"] = o.seed;
+  if (o.retrim) gen["retrim_alpha_deg"] = o.retrim_alpha_deg;
   gen["flights_per_glider"] = o.flights_per_glider;
   gen["points"] = {o.points_min, o.points_max};
   gen["window"] = win;
-  gen["launcher"] = {{"speed_m_s", {o.launcher.speed_min, o.launcher.speed_max}},
-                     {"speed_sigma_m_s", o.launcher.speed_sigma},
+  gen["launcher"] = {{o.launcher.speed_relative ? "speed_glide_speeds" : "speed_m_s",
+                      {o.launcher.speed_min, o.launcher.speed_max}},
+                     {o.launcher.speed_relative ? "speed_sigma_glide_speeds" : "speed_sigma_m_s",
+                      o.launcher.speed_sigma},
                      {"climb_deg", {o.launcher.climb_min_deg, o.launcher.climb_max_deg}},
                      {"climb_sigma_deg", o.launcher.climb_sigma_deg},
                      {"pitch_sigma_deg", o.launcher.pitch_sigma_deg},
@@ -266,6 +285,17 @@ const bool registered_generate = register_command(
          "                            wind, camera\n"
          "  --strength E=V,...        strength of effects (switches them on; 0 = off)\n"
          "  --speed MIN:MAX           nominal launch speeds [m/s] (default 7:11)\n"
+         "  --speed-relative MIN:MAX  nominal launch speeds as multiples of each glider's\n"
+         "                            steady glide speed in the simulated reality (a person\n"
+         "                            throws a glider at about its flying speed; column\n"
+         "                            glide_speed_m_s); the glider must have a stable glide\n"
+         "  --retrim DEG              trim each glider for the simulated reality, as a person\n"
+         "                            bends the tail until it glides: its smallest wing's\n"
+         "                            mounting angle is turned (within 15 degrees), with nose\n"
+         "                            weight where needed for a 5 % static margin, until the\n"
+         "                            stable pitch equilibrium is at DEG angle of attack; the\n"
+         "                            dataset's glider files hold the trimmed mounts (column\n"
+         "                            trim_turn_deg, trim_weight_kg)\n"
          "  --climb MIN:MAX           nominal climb angles [deg] (default 0:10)\n"
          "  --height M                launch height [m] (default 1.5)\n"
          "  --wind M_S                wind along x at wind strength 1 (default -1: headwind)\n"

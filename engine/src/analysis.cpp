@@ -28,21 +28,27 @@ std::string launch_name(const Launch& l) {
 
 }  // namespace
 
-bool find_trim(const MountedGlider& g, double v, double lo, double hi, TrimPoint* out) {
+namespace {
+
+// The trim and glide searches work on any characteristic function
+// F(V, gamma) -> GliderForces: the mounted glider's tables or a general
+// aerodynamic model (level_forces).
+template <class Forces>
+bool trim_of(const Forces& forces, double v, double lo, double hi, TrimPoint* out) {
   if (!(hi > lo)) return false;
   const int n = std::max(8, static_cast<int>(std::ceil((hi - lo) / deg2rad(0.5))));
   double best_gamma = 0;
   bool found = false;
-  double prev_g = lo, prev_m = g.forces(v, lo).moment;
+  double prev_g = lo, prev_m = forces(v, lo).moment;
   for (int i = 1; i <= n; ++i) {
     const double gm = lo + (hi - lo) * i / n;
-    const double m = g.forces(v, gm).moment;
+    const double m = forces(v, gm).moment;
     if (prev_m >= 0 && m < 0) {
       // Stable equilibrium (moment falls through zero): refine by bisection.
       double a = prev_g, b = gm, ma = prev_m;
       for (int it = 0; it < 60 && b - a > 1e-12; ++it) {
         const double c = 0.5 * (a + b);
-        const double mc = g.forces(v, c).moment;
+        const double mc = forces(v, c).moment;
         if ((mc >= 0) == (ma >= 0)) { a = c; ma = mc; } else { b = c; }
       }
       const double root = 0.5 * (a + b);
@@ -54,15 +60,54 @@ bool find_trim(const MountedGlider& g, double v, double lo, double hi, TrimPoint
   }
   if (!found) return false;
   if (out) {
-    const GliderForces f = g.forces(v, best_gamma);
+    const GliderForces f = forces(v, best_gamma);
     const double h = deg2rad(0.25);
     out->v = v;
     out->gamma = best_gamma;
     out->lift = f.lift;
     out->drag = f.drag;
-    out->dmoment_dgamma = (g.forces(v, best_gamma + h).moment - g.forces(v, best_gamma - h).moment) / (2 * h);
+    out->dmoment_dgamma = (forces(v, best_gamma + h).moment - forces(v, best_gamma - h).moment) / (2 * h);
   }
   return true;
+}
+
+template <class Forces>
+Glide glide_of(const Forces& forces, double W, double lo, double hi) {
+  Glide gl;
+  double v = 7.0;
+  TrimPoint t;
+  for (int it = 0; it < 30; ++it) {
+    if (!trim_of(forces, v, lo, hi, &t)) return gl;
+    const double F = std::hypot(t.lift, t.drag);
+    if (!(F > 0)) return gl;
+    const double vn = std::clamp(v * std::sqrt(W / F), 0.5, 100.0);
+    const bool done = std::abs(vn - v) < 1e-6 * v;
+    v = vn;
+    if (done) break;
+  }
+  if (!trim_of(forces, v, lo, hi, &t) || !(t.lift > 0)) return gl;
+  gl.exists = true;
+  gl.gamma = t.gamma;
+  gl.speed = v;
+  gl.ratio = t.lift / std::max(t.drag, 1e-12);
+  gl.path_angle = std::atan2(t.drag, t.lift);
+  gl.sink_rate = v * std::sin(gl.path_angle);
+  return gl;
+}
+
+}  // namespace
+
+bool find_trim(const MountedGlider& g, double v, double lo, double hi, TrimPoint* out) {
+  return trim_of([&g](double vv, double gm) { return g.forces(vv, gm); }, v, lo, hi, out);
+}
+
+GliderForces level_forces(const AeroForces& a, double v, double gamma, double height) {
+  FlightState s;
+  s.p = {0.0, height};
+  s.v = {v, 0.0};  // level path: theta = 0, so the pitch angle is gamma
+  s.beta = gamma;
+  const Wrench w = a.evaluate(s);
+  return {-w.force.x, w.force.y, w.moment};
 }
 
 double neutral_point(const MountedGlider& g, double v, double gm) {
@@ -76,27 +121,12 @@ double neutral_point(const MountedGlider& g, double v, double gm) {
 }
 
 Glide steady_glide(const MountedGlider& g, double lo, double hi) {
-  Glide gl;
-  const double W = g.mass().mass * g.aero().environment().gravity;
-  double v = 7.0;
-  TrimPoint t;
-  for (int it = 0; it < 30; ++it) {
-    if (!find_trim(g, v, lo, hi, &t)) return gl;
-    const double F = std::hypot(t.lift, t.drag);
-    if (!(F > 0)) return gl;
-    const double vn = std::clamp(v * std::sqrt(W / F), 0.5, 100.0);
-    const bool done = std::abs(vn - v) < 1e-6 * v;
-    v = vn;
-    if (done) break;
-  }
-  if (!find_trim(g, v, lo, hi, &t) || !(t.lift > 0)) return gl;
-  gl.exists = true;
-  gl.gamma = t.gamma;
-  gl.speed = v;
-  gl.ratio = t.lift / std::max(t.drag, 1e-12);
-  gl.path_angle = std::atan2(t.drag, t.lift);
-  gl.sink_rate = v * std::sin(gl.path_angle);
-  return gl;
+  return glide_of([&g](double v, double gm) { return g.forces(v, gm); },
+                  g.mass().mass * g.aero().environment().gravity, lo, hi);
+}
+
+Glide steady_glide(const AeroForces& a, const RigidBody& body, double gravity, double lo, double hi) {
+  return glide_of([&a](double v, double gm) { return level_forces(a, v, gm); }, body.mass * gravity, lo, hi);
 }
 
 Flyability analyse(const MountedGlider& g, const std::vector<std::string>& names,

@@ -4,12 +4,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <exception>
 #include <mutex>
 #include <numeric>
 #include <thread>
 
 #include "pteromys/reference.hpp"
+#include "pteromys/analysis.hpp"
+#include "pteromys/effects.hpp"
 
 namespace pteromys {
 namespace {
@@ -89,6 +92,7 @@ void check_options(const GenerateOptions& o) {
   check_range(o.camera.scale, 0.1, 10.0, "camera scale");
   check_range(o.camera.roll_deg, -90.0, 90.0, "camera roll [deg]");
   check_range(o.dt, 1e-5, 0.05, "time step [s]");
+  if (o.retrim) check_range(o.retrim_alpha_deg, -5.0, 15.0, "trim angle of attack [deg]");
   const LauncherModel& l = o.launcher;
   check_range(l.speed_min, 0.1, 100.0, "launch speed [m/s]");
   check_range(l.speed_max, l.speed_min, 100.0, "maximum launch speed [m/s]");
@@ -108,6 +112,81 @@ void check_options(const GenerateOptions& o) {
     if (!std::isfinite(f) || std::abs(f) > 100) throw InputError("strength of effect '" + n + "' is out of range");
   }
 }
+
+}  // namespace
+
+Glider retrim_glider(const std::string& key, const Glider& g, double alpha_deg, const ReferenceOptions& aero,
+                     const Environment& env, double* turned_deg, double* nose_weight_kg) {
+  if (turned_deg) *turned_deg = 0;
+  if (nose_weight_kg) *nose_weight_kg = 0;
+  const GliderFeatures f = glider_features(g);
+  if (f.trim_wing < 0) return g;
+  const double target = deg2rad(alpha_deg);
+  const std::string& wname = g.wings[f.trim_wing].name;
+  const std::string what = "glider '" + key + "' cannot be trimmed to glide at " + num(alpha_deg) +
+                           " degrees angle of attack in this reality";
+  const double chord = f.wings[f.main_wing].mean_chord;
+  const double mass0 = mass_properties(g).mass;
+  // Nose weight, if any is needed, goes 5 mm behind the fuselage's tip.
+  double nose_x = -1e9, nose_y = 0;
+  for (const auto& q : g.fuselage)
+    if (q.x > nose_x) {
+      nose_x = q.x;
+      nose_y = q.y;
+    }
+  nose_x -= 0.005;
+  auto build = [&](double delta_deg, double nose_kg) {
+    Glider t = g;
+    t.wings[f.trim_wing].mount.angle_deg += delta_deg;
+    if (nose_kg > 0) t.ballast.push_back({"trim weight", nose_kg, nose_x, nose_y});
+    return t;
+  };
+  for (int step = 0; step <= 20; ++step) {
+    const double nose_kg = 0.05 * step * mass0;  // up to the glider's own mass
+    // The moment at the target angle of attack as a function of the turn of
+    // the trim wing: it falls as a tail's incidence rises (rises for a
+    // canard); its zero is the trim.
+    auto moment_at = [&](double delta_deg) {
+      const Glider t = build(delta_deg, nose_kg);
+      const ReferenceAero ref(t, mass_properties(t).cg, aero, env);
+      return level_forces(ref, 5.0, target).moment;
+    };
+    double a = -15.0, b = 15.0;
+    double fa = moment_at(a);
+    if (!(fa * moment_at(b) <= 0))
+      throw InputError(what + " by turning its wing '" + wname + "' within 15 degrees either way");
+    for (int i = 0; i < 50 && b - a > 1e-5; ++i) {
+      const double m = 0.5 * (a + b);
+      const double fm = moment_at(m);
+      if ((fm < 0) == (fa < 0)) {
+        a = m;
+        fa = fm;
+      } else {
+        b = m;
+      }
+    }
+    const double delta = 0.5 * (a + b);
+    const Glider t = build(delta, nose_kg);
+    // Pitch stability there: static margin -(dM/dgamma) / (dL/dgamma) / chord >= 5 %.
+    const ReferenceAero ref(t, mass_properties(t).cg, aero, env);
+    const double h = deg2rad(0.5);
+    const GliderForces up = level_forces(ref, 5.0, target + h), down = level_forces(ref, 5.0, target - h);
+    const double dM = up.moment - down.moment, dL = up.lift - down.lift;
+    if (!(dL > 0 && -dM / dL >= 0.05 * chord)) continue;  // add nose weight
+    try {
+      validate(t);
+    } catch (const InputError& e) {
+      throw InputError("glider '" + key + "' trimmed for this reality (wing '" + wname + "' turned by " +
+                       num(delta) + " degrees) is no longer a valid glider: " + e.what());
+    }
+    if (turned_deg) *turned_deg = delta;
+    if (nose_weight_kg) *nose_weight_kg = nose_kg;
+    return t;
+  }
+  throw InputError(what + ": it is not pitch-stable even with its own mass again as nose weight");
+}
+
+namespace {
 
 // Cubic Hermite position of the flight at time t (relative to release).
 Vec2 position_at(const Flight& f, double t) {
@@ -197,6 +276,7 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
   sim.wind = {f_wind * opt.wind_m_s, 0.0};
 
   std::vector<std::vector<TrackedFlight>> results(ng);
+  std::vector<Glider> flown(ng);  // as flown (trimmed for this reality when opt.retrim)
   std::atomic<int> next{0};
   std::mutex mtx;
   int done = 0;
@@ -213,11 +293,25 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
         if (error) return;
       }
       try {
-        const auto& [gkey, glider] = gliders[gi];
+        const auto& gkey = gliders[gi].first;
         const auto t0 = std::chrono::steady_clock::now();
+        double turned = 0, nose_kg = 0;
+        flown[gi] = opt.retrim ? retrim_glider(gkey, gliders[gi].second, opt.retrim_alpha_deg, aero, opt.env,
+                                               &turned, &nose_kg)
+                               : gliders[gi].second;
+        const Glider& glider = flown[gi];
         const MassProperties mp = mass_properties(glider);
         const ReferenceAero ref(glider, mp.cg, aero, opt.env);
         const RigidBody body{mp.mass, mp.inertia};
+        double speed_unit = 1.0;  // launch speeds are in m/s, or in glide speeds
+        if (opt.launcher.speed_relative) {
+          const Glide sg = steady_glide(ref, body, opt.env.gravity);
+          if (!sg.exists)
+            throw InputError("glider '" + gkey + "' has no steady glide in this reality (no pitch-stable "
+                             "equilibrium with lift between -15 and 25 degrees angle of attack); launch speeds "
+                             "relative to the glide speed need one (--retrim trims it)");
+          speed_unit = sg.speed;
+        }
         const auto t1 = std::chrono::steady_clock::now();
         // Climb-angle settings in a random order per glider (speeds in order).
         Rng grng(key(key(opt.seed, static_cast<std::uint64_t>(gi)), 0xC11Bull));
@@ -235,8 +329,8 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
             Rng rng(key(key(key(opt.seed, static_cast<std::uint64_t>(gi) + 1), static_cast<std::uint64_t>(fi) + 1),
                         static_cast<std::uint64_t>(attempt)));
             Launch l;
-            l.speed = std::max(0.1, L.speed_min + (fi + 0.5) / nf * (L.speed_max - L.speed_min) +
-                                        L.speed_sigma * rng.normal());
+            l.speed = std::max(0.1, speed_unit * (L.speed_min + (fi + 0.5) / nf * (L.speed_max - L.speed_min) +
+                                                      L.speed_sigma * rng.normal()));
             l.climb_deg = L.climb_min_deg + (perm[fi] + 0.5) / nf * (L.climb_max_deg - L.climb_min_deg) +
                           L.climb_sigma_deg * rng.normal();
             l.pitch_from_path = false;
@@ -268,6 +362,11 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
             best.glider = gkey;
             best.points = std::move(pts);
             best.extra["true_speed_m_s"] = num(l.speed);
+            if (L.speed_relative) best.extra["glide_speed_m_s"] = num(speed_unit);
+            if (opt.retrim) {
+              best.extra["trim_turn_deg"] = num(turned);
+              best.extra["trim_weight_kg"] = num(nose_kg);
+            }
             best.extra["true_climb_deg"] = num(l.climb_deg);
             best.extra["true_pitch_deg"] = num(l.pitch_deg);
             best.extra["true_pitch_rate_deg_s"] = num(l.pitch_rate_deg_s);
@@ -319,7 +418,8 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
   d.air_viscosity = opt.env.air_viscosity;
   d.gravity = opt.env.gravity;
   for (int gi = 0; gi < ng; ++gi) {
-    const auto& [k, g] = gliders[gi];
+    const auto& k = gliders[gi].first;
+    const Glider& g = flown[gi];
     if (results[gi].empty()) {
       st.dropped_gliders.push_back(k);
       continue;
@@ -331,6 +431,11 @@ Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& glid
     throw InputError("no glider gave a single flight with 6 tracked points (they hit the ground or tumble at once)");
   d.extra_columns = {"true_speed_m_s", "true_climb_deg", "true_pitch_deg", "true_pitch_rate_deg_s",
                      "true_height_m", "true_release_t_s", "true_end"};
+  if (opt.launcher.speed_relative) d.extra_columns.push_back("glide_speed_m_s");
+  if (opt.retrim) {
+    d.extra_columns.push_back("trim_turn_deg");
+    d.extra_columns.push_back("trim_weight_kg");
+  }
   for (auto& fl : results)
     for (auto& f : fl) d.flights.push_back(std::move(f));
   st.flights = static_cast<int>(d.flights.size());

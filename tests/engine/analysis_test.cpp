@@ -75,6 +75,35 @@ TEST(Analysis, SteadyGlideBalancesWeight) {
   }
 }
 
+// The glide search works on any aerodynamic model: through QuasiStaticAero
+// (world-frame forces turned back into F(V, gamma) by level_forces) it finds
+// the mounted glider's own glide, and level_forces returns the mounted
+// glider's forces at any (V, gamma).
+TEST(Analysis, SteadyGlideOfAnyModelMatchesTheMountedGlider) {
+  const auto model = default_model();
+  int compared = 0;
+  for (const auto& [path, g] : test::examples()) {
+    const MountedGlider mg = mount(g, model);
+    const QuasiStaticAero qa(mg);
+    for (double v : {4.0, 7.5})
+      for (double gm : {-0.1, 0.05, 0.2}) {
+        const GliderForces a = mg.forces(v, gm), b = level_forces(qa, v, gm);
+        EXPECT_NEAR(b.lift, a.lift, 1e-12 + 1e-9 * std::abs(a.lift)) << path;
+        EXPECT_NEAR(b.drag, a.drag, 1e-12 + 1e-9 * std::abs(a.drag)) << path;
+        EXPECT_NEAR(b.moment, a.moment, 1e-14 + 1e-9 * std::abs(a.moment)) << path;
+      }
+    const Glide a = steady_glide(mg, deg2rad(-15), deg2rad(25));
+    const Glide b = steady_glide(qa, RigidBody{mg.mass().mass, mg.mass().inertia}, 9.81);
+    ASSERT_EQ(a.exists, b.exists) << path;
+    if (!a.exists) continue;
+    ++compared;
+    EXPECT_NEAR(b.speed, a.speed, 1e-6 * a.speed) << path;
+    EXPECT_NEAR(b.gamma, a.gamma, 1e-8) << path;
+    EXPECT_NEAR(b.ratio, a.ratio, 1e-6 * a.ratio) << path;
+  }
+  EXPECT_GE(compared, 10);
+}
+
 // A wing alone with the CG far behind it cannot fly, and the report says why.
 TEST(Analysis, UnflyableDesignGetsReasons) {
   Glider g = test::simple_glider(0.06, 0.4, -0.02, 0.0, 3.0);

@@ -7,7 +7,10 @@
 #include <numeric>
 #include <unistd.h>
 
+#include "pteromys/analysis.hpp"
+#include "pteromys/effects.hpp"
 #include "pteromys/io.hpp"
+#include "pteromys/mass.hpp"
 #include "pteromys/reference.hpp"
 #include "test_support.hpp"
 
@@ -246,4 +249,120 @@ TEST(ReferenceGenerate, LeavesOutLaunchesThatCannotBeTrackedAndSaysSo) {
   dive.launcher.height = 0.05;
   dive.launcher.height_sigma = 0;
   EXPECT_THROW(generate_dataset(g, dive), InputError);
+}
+
+// A glide found on the reference simulator's forces is an equilibrium of its
+// flight: started there, high above the ground, the glider keeps its speed,
+// path and pitch for 4 s (pitch damping on, so that the tiny error of the
+// start dies out instead of exciting an undamped oscillation).
+TEST(ReferenceGenerate, SteadyGlideIsAnEquilibriumOfTheReferenceFlight) {
+  for (const auto& [key, g] : training(3)) {
+    ReferenceOptions ro;
+    ro.effects = Effects::baseline();
+    ro.effects.pitch_damping.on = true;
+    ro.effects.finite_span.on = true;
+    const MassProperties mp = mass_properties(g);
+    const ReferenceAero ref(g, mp.cg, ro);
+    const RigidBody body{mp.mass, mp.inertia};
+    const Glide gl = steady_glide(ref, body);
+    ASSERT_TRUE(gl.exists) << key;
+    EXPECT_GT(gl.speed, 2.0) << key;
+    EXPECT_LT(gl.speed, 12.0) << key;
+    Launch l;
+    l.speed = gl.speed;
+    l.climb_deg = -rad2deg(gl.path_angle);
+    l.pitch_from_path = false;
+    l.pitch_deg = rad2deg(gl.gamma - gl.path_angle);  // gamma = theta + beta
+    l.height = 60;
+    SimOptions so;
+    so.t_max = 4.0;
+    const Flight f = simulate(ref, body, l, so);
+    ASSERT_TRUE(f.stable) << key;
+    const FlightSample& e = f.samples.back();
+    EXPECT_NEAR(e.t, 4.0, 1e-9) << key;
+    EXPECT_NEAR(e.speed, gl.speed, 0.005 * gl.speed) << key;
+    EXPECT_NEAR(e.alpha, gl.gamma, deg2rad(0.1)) << key;
+    EXPECT_NEAR(-std::atan2(e.vy, e.vx), gl.path_angle, deg2rad(0.1)) << key;
+  }
+}
+
+// Trimming for a reality (as a person bends the tail and adds nose weight)
+// puts the reference's pitch equilibrium at the requested angle of attack
+// with at least a 5 % static margin; the dataset's gliders are the trimmed
+// ones, and their glide in that reality is at the requested angle.
+TEST(ReferenceGenerate, RetrimPutsTheEquilibriumAtTheRequestedAngle) {
+  GenerateOptions o = quick();
+  o.effects = Effects::baseline();
+  o.effects.downwash.on = true;  // a reality the drawn gliders are not trimmed for
+  o.retrim = true;
+  o.retrim_alpha_deg = 2.5;
+  const auto gl = training(3);
+  const Dataset d = generate_dataset(gl, o);
+  ReferenceOptions ro = o.aero;
+  ro.effects = o.effects;
+  for (const auto& [key, g0] : gl) {
+    const Glider& g = d.gliders.at(key);
+    const GliderFeatures f = glider_features(g0);
+    ASSERT_GE(f.trim_wing, 0);
+    const double turned = g.wings[f.trim_wing].mount.angle_deg - g0.wings[f.trim_wing].mount.angle_deg;
+    bool weighted = false;
+    for (const auto& b : g.ballast) weighted = weighted || b.name == "trim weight";
+    for (const auto& fl : d.flights)
+      if (fl.glider == key) {
+        EXPECT_NEAR(std::stod(fl.extra.at("trim_turn_deg")), turned, 1e-6) << key;
+        EXPECT_EQ(std::stod(fl.extra.at("trim_weight_kg")) > 0, weighted) << key;
+      }
+    const MassProperties mp = mass_properties(g);
+    const ReferenceAero ref(g, mp.cg, ro);
+    EXPECT_NEAR(level_forces(ref, 5.0, deg2rad(2.5)).moment, 0.0, 1e-7) << key;
+    const double h = deg2rad(0.5);
+    const GliderForces up = level_forces(ref, 5.0, deg2rad(2.5) + h), dn = level_forces(ref, 5.0, deg2rad(2.5) - h);
+    const double margin = -(up.moment - dn.moment) / (up.lift - dn.lift) / f.wings[f.main_wing].mean_chord;
+    EXPECT_GE(margin, 0.05 - 1e-9) << key;
+    const Glide glide = steady_glide(ref, RigidBody{mp.mass, mp.inertia});
+    ASSERT_TRUE(glide.exists) << key;
+    EXPECT_NEAR(rad2deg(glide.gamma), 2.5, 0.2) << key;  // at the glide speed, not 5 m/s
+  }
+}
+
+// Relative launch speeds are multiples of each glider's glide speed in the
+// simulated reality: the recorded true speeds lie in [min, max] glide
+// speeds (up to the launcher's 4 % spread), and the column says the speed.
+TEST(ReferenceGenerate, RelativeLaunchSpeedsFollowTheGlideSpeed) {
+  GenerateOptions o = quick();
+  o.flights_per_glider = 4;
+  o.launcher.speed_relative = true;
+  o.launcher.speed_min = 1.0;
+  o.launcher.speed_max = 1.4;
+  o.launcher.speed_sigma = 0.0;
+  const auto gl = training(2);
+  const Dataset d = generate_dataset(gl, o);
+  ReferenceOptions ro = o.aero;
+  ro.effects = o.effects;
+  for (const auto& [key, g] : gl) {
+    const MassProperties mp = mass_properties(g);
+    const Glide glide = steady_glide(ReferenceAero(g, mp.cg, ro), RigidBody{mp.mass, mp.inertia});
+    ASSERT_TRUE(glide.exists);
+    int n = 0;
+    for (const auto& fl : d.flights)
+      if (fl.glider == key) {
+        ++n;
+        EXPECT_NEAR(std::stod(fl.extra.at("glide_speed_m_s")), glide.speed, 1e-6 * glide.speed);
+        const double v = std::stod(fl.extra.at("true_speed_m_s"));
+        EXPECT_GE(v, 1.0 * glide.speed - 1e-9) << key;
+        EXPECT_LE(v, 1.4 * glide.speed + 1e-9) << key;
+      }
+    EXPECT_EQ(n, 4);
+  }
+  // A glider that cannot glide in this reality is refused by name.
+  auto bad = training(1);
+  double tail_x = 1e9;  // the CG far behind the neutral point: no pitch-stable trim
+  for (const auto& q : bad[0].second.fuselage) tail_x = std::min(tail_x, q.x);
+  bad[0].second.ballast.push_back({"tail weight", 2 * mass_properties(bad[0].second).mass, tail_x + 0.005, 0.0});
+  try {
+    generate_dataset(bad, o);
+    ADD_FAILURE() << "a glider without a glide was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'t17-canard' has no steady glide"), std::string::npos) << e.what();
+  }
 }

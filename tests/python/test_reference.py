@@ -199,6 +199,9 @@ def test_generated_noise_matches_sigma(tmp_path):
     (["--noise-m", "nan"], "needs a number"),
     (["--noise-m", "0"], "must be positive"),
     (["--speed", "9:7"], "MAX is below MIN"),
+    (["--speed", "7:9", "--speed-relative", "1:1.3"], "give launch speeds once"),
+    (["--speed-relative", "0.1:1"], "between 0.3 and 5"),
+    (["--retrim", "40"], "trim angle of attack"),
 ])
 def test_generate_refuses_bad_options_without_output(tmp_path, args, words):
     out = tmp_path / "ds"
@@ -241,3 +244,28 @@ def test_generate_warns_about_launches_it_leaves_out(tmp_path):
              "--quiet", "--strict"])
     assert r.returncode == 2 and "6 tracked points" in r.stderr
     assert not (tmp_path / "strict").exists()
+
+
+def test_generate_trims_gliders_for_their_reality_and_launches_at_glide_speed(tmp_path):
+    """--retrim writes the trimmed gliders (what flew) into the dataset and
+    says per flight how far the tail was turned; --speed-relative launches
+    every glider between the given multiples of its glide speed."""
+    out = tmp_path / "ds"
+    r = run(["generate", CANARD, "-o", out, "--flights-per-glider", "3", "--effects", "downwash", "--retrim", "2",
+             "--speed-relative", "1:1.3", "--quiet"])
+    assert r.returncode == 0, r.stderr
+    rows, _ = read_csv(out / "flights.csv")
+    turn = {float(p["trim_turn_deg"]) for p in rows}
+    glide = {float(p["glide_speed_m_s"]) for p in rows}
+    assert len(turn) == 1 and len(glide) == 1
+    (turn,), (glide,) = turn, glide
+    assert 2.0 < glide < 12.0
+    for p in rows:
+        assert 0.9 * glide < float(p["true_speed_m_s"]) < 1.45 * glide
+    drawn = json.load(open(CANARD))
+    flown = json.load(open(out / "gliders" / (os.path.basename(CANARD))))
+    assert flown["wings"][0]["name"] == "canard"
+    assert flown["wings"][0]["mount"]["angle_deg"] == pytest.approx(drawn["wings"][0]["mount"]["angle_deg"] + turn,
+                                                                    abs=1e-6)
+    gen = json.load(open(out / "generation.json"))
+    assert gen["retrim_alpha_deg"] == 2 and gen["launcher"]["speed_glide_speeds"] == [1, 1.3]

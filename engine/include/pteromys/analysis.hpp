@@ -80,6 +80,20 @@ double neutral_point(const MountedGlider& g, double v, double gamma);
 /// Steady glide of the mounted glider (see Glide).
 Glide steady_glide(const MountedGlider& g, double gamma_lo, double gamma_hi);
 
+/// The characteristic function F(V, gamma) of any aerodynamic model: drag,
+/// lift [N] and pitching moment about the CG [N m] in level flight at air
+/// speed v [m/s] and angle of attack gamma [rad], still air, no pitch rate,
+/// at `height` above the ground [m] (far enough by default that ground
+/// effect is absent).
+GliderForces level_forces(const AeroForces& a, double v, double gamma, double height = 100.0);
+
+/// Steady glide of any aerodynamic model (the reference simulator, a
+/// corrected model) with the same search as the mounted glider's: the stable
+/// pitch equilibrium in [gamma_lo, gamma_hi] nearest gamma = 0, at the speed
+/// where the air force equals the weight.
+Glide steady_glide(const AeroForces& a, const RigidBody& body, double gravity = 9.81,
+                   double gamma_lo = deg2rad(-15.0), double gamma_hi = deg2rad(25.0));
+
 /// Full analysis, including the six standard launches.
 Flyability analyse(const MountedGlider& g, const std::vector<std::string>& wing_names,
                    const AnalysisOptions& opt = {});

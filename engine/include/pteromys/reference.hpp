@@ -257,8 +257,14 @@ class ReferenceAero final : public AeroForces {
 /// of each glider (stratified over [min, max]); each flight then adds Gaussian
 /// scatter. Release height and the release instant scatter too.
 struct LauncherModel {
-  double speed_min = 7.0, speed_max = 11.0;  ///< m/s
-  double speed_sigma = 0.25;                 ///< m/s
+  double speed_min = 7.0, speed_max = 11.0;  ///< m/s (factors of the glide speed when speed_relative)
+  double speed_sigma = 0.25;                 ///< m/s (a fraction of the glide speed when speed_relative)
+  /// Launch speeds relative to each glider's steady glide speed in the
+  /// reality being simulated (steady_glide of the reference forces): a person
+  /// throws a glider at about the speed at which it glides, so that flights of
+  /// different gliders and of different realities are alike (default off:
+  /// absolute speeds, as the paper's standard launches).
+  bool speed_relative = false;
   double climb_min_deg = 0.0, climb_max_deg = 10.0;
   double climb_sigma_deg = 1.0;
   double pitch_offset_deg = 0.0;             ///< mean pitch minus climb at release
@@ -314,6 +320,15 @@ struct GenerateOptions {
   /// strict: throw InputError instead.
   bool strict = false;
   int threads = 2;         ///< gliders are simulated in parallel
+  /// Trim every glider for the reality it flies in, as a person bends the
+  /// tail and adds nose weight until the glider glides (retrim_glider): its
+  /// trim wing (the smallest, GliderFeatures::trim_wing) is turned so that
+  /// the reference's pitch equilibrium lies at retrim_alpha_deg angle of
+  /// attack, with nose weight where it would not be stable. The dataset's
+  /// glider files hold the trimmed gliders (what flew). Gliders with one wing
+  /// are left as they are.
+  bool retrim = false;
+  double retrim_alpha_deg = 4.0;
   Environment env;
   /// Called after every flight with (flights done, flights total, glider key).
   std::function<void(int, int, const std::string&)> progress;
@@ -338,6 +353,20 @@ struct GenerateStats {
 /// (independent of the thread count). Throws InputError on bad options.
 Dataset generate_dataset(const std::vector<std::pair<std::string, Glider>>& gliders,
                          const GenerateOptions& opt, GenerateStats* stats = nullptr);
+
+/// The glider `g` trimmed for the reality of the reference forces (options
+/// `aero`), as a person trims a glider until it glides: the mounting angle of
+/// its trim wing is turned so that the pitch equilibrium (level flight at
+/// 5 m/s in still air far from the ground) lies at `alpha_deg` angle of
+/// attack, and where that equilibrium has a static margin below 5 % of the
+/// main wing's mean chord, nose weight (a ballast item "trim weight" 5 mm
+/// behind the fuselage's tip) is added in steps of 5 % of the glider's mass
+/// until it is stable (see GenerateOptions::retrim). `turned_deg` and
+/// `nose_weight_kg`, when given, receive the changes. Throws InputError
+/// naming the glider (`key`) when no turn within +-15 degrees or no nose
+/// weight up to the glider's own mass does it.
+Glider retrim_glider(const std::string& key, const Glider& g, double alpha_deg, const ReferenceOptions& aero,
+                     const Environment& env = {}, double* turned_deg = nullptr, double* nose_weight_kg = nullptr);
 
 /// The tracked points of one simulated flight: frames at k / frame_rate on
 /// the camera clock, release at `release_t` on that clock, recorded through
