@@ -15,30 +15,35 @@ namespace {
 constexpr double kRadToDeg = 180.0 / kPi;
 
 std::vector<EffectSpec> make_specs() {
-  auto k = [](double hi) { return EffectParameter{"strength", "-", 1.0, 0.0, hi, 1.0}; };
+  // Aerodynamic strengths: 1 is the correction's full theoretical size; the
+  // fit may find up to 3 times that (the corrections are approximations of
+  // the physics), fuselage drag and ground effect up to 10 (friction alone
+  // underestimates a plate's drag; McCormick's factor is an empirical fit).
+  auto k = [](double hi) { return EffectParameter{"strength", "-", 1.0, 0.0, hi, 1.0, {0.5, 1.0, 2.0}}; };
   return {
       {Effect::PitchDamping, "pitch_damping",
        "each wing sees the air velocity of the pitch rate at its 3/4-chord point", EffectLevel::Aerodynamic,
-       {k(10)}},
+       {k(3)}},
       {Effect::Downwash, "downwash",
        "each wing's horseshoe vortex lowers the angle of attack behind it (raises it ahead)",
-       EffectLevel::Aerodynamic, {k(10)}},
+       EffectLevel::Aerodynamic, {k(3)}},
       {Effect::FiniteSpan, "finite_span",
        "each wing's own induced angle C_L/(pi A e): lift-slope loss and induced drag of its aspect ratio",
-       EffectLevel::Aerodynamic, {k(10)}},
+       EffectLevel::Aerodynamic, {k(3)}},
       {Effect::FuselageDrag, "fuselage_drag", "laminar friction drag of the fuselage plate (both faces)",
        EffectLevel::Aerodynamic, {k(10)}},
       {Effect::GroundEffect, "ground_effect", "the induced angle falls near the ground (McCormick's factor)",
        EffectLevel::Aerodynamic, {k(10)}},
       {Effect::LaunchRotation, "launch_rotation", "a common pitch rate at the first tracked point of every flight",
-       EffectLevel::Launch, {{"pitch_rate_deg_s", "rad/s", 1.0, -20.0, 20.0, kRadToDeg}}},
+       EffectLevel::Launch, {{"pitch_rate_deg_s", "rad/s", 1.0, -20.0, 20.0, kRadToDeg, {-1.0, 1.0}}}},
       {Effect::AddedMass, "added_mass", "apparent mass and rotary inertia of the plates moving normal to themselves",
-       EffectLevel::Aerodynamic, {k(10)}},
+       EffectLevel::Aerodynamic, {k(3)}},
       {Effect::Wind, "wind", "a steady horizontal wind during the session",
-       EffectLevel::Session, {{"wind_m_s", "m/s", 1.0, -15.0, 15.0, 1.0}}},
+       EffectLevel::Session, {{"wind_m_s", "m/s", 1.0, -15.0, 15.0, 1.0, {-1.0, 1.0}}}},
       {Effect::Camera, "camera", "the camera's scale (distance) and roll errors",
        EffectLevel::Observation,
-       {{"scale_error", "-", 0.02, -0.5, 0.5, 1.0}, {"roll_deg", "rad", 0.02, -0.5, 0.5, kRadToDeg}}},
+       {{"scale_error", "-", 0.02, -0.5, 0.5, 1.0, {-0.03, 0.03}},
+        {"roll_deg", "rad", 0.02, -0.5, 0.5, kRadToDeg, {-0.035, 0.035}}}},
   };
 }
 

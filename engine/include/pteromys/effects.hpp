@@ -77,6 +77,11 @@ struct EffectParameter {
   double lower = -1e9;   ///< bounds of the fit [unit]
   double upper = 1e9;
   double to_report = 1;  ///< factor from the internal unit to the reported one (rad -> deg: 180/pi)
+  /// Values the fit also starts from (besides zero, the baseline) [unit]:
+  /// trajectories depend on a strength far from linearly (a damped and an
+  /// undamped flight differ by metres), so a solver started at zero alone
+  /// can stop in the baseline's basin.
+  std::vector<double> starts;
 };
 
 struct EffectSpec {
