@@ -27,42 +27,41 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-GLIDERS = ["t01-rectangular", "t03-rectangular-long", "t04-tapered-mild", "t06-swept-15", "t09-forward-swept-15",
-           "t12-elliptic", "t14-straight-trailing-edge", "t17-canard"]
+GLIDERS = ["t01-rectangular", "t02-rectangular-low-ar", "t03-rectangular-long", "t04-tapered-mild",
+           "t05-tapered-strong", "t06-swept-15", "t07-swept-30", "t09-forward-swept-15", "t11-delta", "t12-elliptic",
+           "t14-straight-trailing-edge", "t17-canard"]
 EFFECTS = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect", "launch_rotation",
            "added_mass", "wind", "camera"]
-# Camera: 10 frames per second, 15-20 points (1.5-2 s of each flight), 5 cm noise.
-GEN = ["--flights-per-glider", "4", "--frame-rate", "10", "--points", "15-20", "--noise-m", "0.05"]
-DIAG = ["--max-centres", "2", "--folds", "4"]
+# The recording protocol (docs/diagnosis.md, "Blind validation"): every glider
+# trimmed for the reality it flies in (tail turn and nose weight, glide at 2
+# degrees angle of attack) and thrown at 1-1.3 times its glide speed, as a
+# person does; a camera at 30 frames per second tracking 30-45 points (1-1.5 s)
+# of each flight with 1 cm noise (what pteromys track measures on video,
+# docs/capture.md); ground effect is recorded in the landing window instead.
+GEN = ["--flights-per-glider", "4", "--frame-rate", "30", "--points", "30-45", "--noise-m", "0.01",
+       "--retrim", "2", "--speed-relative", "1:1.3"]
+DIAG = ["--max-centres", "8", "--folds", "4"]
 
 
 def cases(quick):
     """The case list, most informative first (a run stopped early still covers
     every effect once and the null data)."""
-    c = [{"name": "null-s31", "truth": [], "strength": {}, "seed": 31},
-         {"name": "null-s32", "truth": [], "strength": {}, "seed": 32}]
+    c = [{"name": "null-s31", "truth": [], "strength": {}, "seed": 31}]
     for e in EFFECTS:
-        # Downwash at strength 1 makes these gliders (tuned without it) tumble at
-        # once in the reference: 0.2 is the largest strength that keeps most launches.
-        v = 0.2 if e == "downwash" else 1.0
-        c.append({"name": "%s-%g-s21" % (e, v), "truth": [e], "strength": {e: v}, "seed": 21, "main": True})
+        c.append({"name": "%s-1-s21" % e, "truth": [e], "strength": {e: 1.0}, "seed": 21, "main": True})
+    c.append({"name": "null-s32", "truth": [], "strength": {}, "seed": 32})
+    for e in EFFECTS:  # twice the nominal strength: where the detection threshold lies
+        c.append({"name": "%s-2-s21" % e, "truth": [e], "strength": {e: 2.0}, "seed": 21})
     c.append({"name": "wind+camera-s41", "truth": ["wind", "camera"], "strength": {"wind": 1.0, "camera": 1.0},
               "seed": 41})
-    c.append({"name": "null-s33", "truth": [], "strength": {}, "seed": 33})
     c.append({"name": "pitch_damping+wind-s42", "truth": ["pitch_damping", "wind"],
               "strength": {"pitch_damping": 1.0, "wind": 1.0}, "seed": 42})
-    # Sensitivity with less tracking noise (2 cm instead of 5 cm).
-    for e in ["camera", "pitch_damping"]:  # (pitch damping at 2 cm did not finish in the recorded session)
-        c.append({"name": "%s-1-n2-s21" % e, "truth": [e], "strength": {e: 1.0}, "seed": 21,
-                  "gen": ["--noise-m", "0.02"]})
+    c.append({"name": "null-s33", "truth": [], "strength": {}, "seed": 33})
     if quick:
         return c
-    for e, v in [("camera", 0.3), ("wind", 0.3), ("pitch_damping", 0.3), ("fuselage_drag", 5.0),
-                 ("added_mass", 5.0), ("launch_rotation", 3.0)]:
-        c.append({"name": "%s-%g-s21" % (e, v), "truth": [e], "strength": {e: v}, "seed": 21})
     for e in EFFECTS:
-        v = 0.2 if e == "downwash" else 1.0
-        c.append({"name": "%s-%g-s22" % (e, v), "truth": [e], "strength": {e: v}, "seed": 22, "main": True})
+        c.append({"name": "%s-1-s22" % e, "truth": [e], "strength": {e: 1.0}, "seed": 22, "main": True})
+    c.append({"name": "null-s34", "truth": [], "strength": {}, "seed": 34})
     return c
 
 
@@ -118,6 +117,7 @@ def strength_of(e, params):
 
 
 MIN_SHRINK = 0.05  # the engine's default (DiagnoseOptions::min_shrink)
+NONE_TOLERANCE = 0.3  # the engine's default (DiagnoseOptions::none_tolerance)
 
 
 def decide(r):
@@ -129,7 +129,7 @@ def decide(r):
     sig = [e["name"] for e in r["effects"] if e["significant"]]
     if sig:
         r["verdict"] = sig[0]
-    elif r["baseline"]["holdout_chi2_ratio"] <= 1.3:
+    elif r["baseline"]["holdout_chi2_ratio"] <= 1 + NONE_TOLERANCE:
         r["verdict"] = "none"
     else:
         r["verdict"] = "unexplained"
@@ -159,7 +159,7 @@ def summarise(results):
         row = {"case": c["name"], "truth": "+".join(c["truth"]) or "none",
                "strength": ",".join("%g" % v for v in c["strength"].values()), "verdict": r["verdict"],
                "baseline_holdout_cm": 100 * b["holdout_rmse_m"], "noise_cm": 100 * b["noise_rmse_m"],
-               "oracle_shrink": oracle, "seconds": r.get("timings", {}).get("total_s", 0.0),
+               "oracle_shrink": oracle, "chi2": b["holdout_chi2_ratio"], "seconds": r.get("timings", {}).get("total_s", 0.0),
                "significant": [e["name"] for e in r["effects"] if e["significant"]]}
         if len(c["truth"]) == 1:
             e = eff[c["truth"][0]]
@@ -169,7 +169,17 @@ def summarise(results):
             row["true_rank"] = [x["name"] for x in r["effects"]].index(c["truth"][0]) + 1
         rows.append(row)
     ratios = [x["shrink_vs_oracle"] for x in rows if "shrink_vs_oracle" in x and x["verdict"] == x["truth"]]
+    # Cases whose effect leaves a real gap: the baseline's held-out chi-square
+    # ratio above the "none" tolerance, i.e. the baseline with re-tuned
+    # coefficients does not already predict held-out gliders to the noise.
+    # Below it, "none" is the right answer (the effect is absorbed).
+    gap = [(c, r) for c, r in single if r["baseline"]["holdout_chi2_ratio"] > 1 + NONE_TOLERANCE]
+    no_gap = [(c, r) for c, r in single if r["baseline"]["holdout_chi2_ratio"] <= 1 + NONE_TOLERANCE]
     return {"confusion": conf, "top1": top1, "single_nominal": len(nominal), "null_false": false_disc,
+            "gap_cases": len(gap), "gap_top1": sum(1 for c, r in gap if r["verdict"] == c["truth"][0]),
+            "gap_misattributed": sum(1 for c, r in gap if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
+            "no_gap_cases": len(no_gap), "no_gap_none": sum(1 for c, r in no_gap if r["verdict"] == "none"),
+            "no_gap_false": sum(1 for c, r in no_gap if r["verdict"] in EFFECTS),
             "nulls": len(nulls), "null_none": null_none, "significant_effects_on_null": sig_null, "rows": rows,
             "median_shrink_vs_oracle_when_right": sorted(ratios)[len(ratios) // 2] if ratios else None}
 
@@ -187,17 +197,23 @@ def markdown(s):
            "(verdict none: %d; significant effects on null data: %d)\n\n" % (
                s["top1"], s["single_nominal"], s["null_false"], s["nulls"], s["null_none"],
                s["significant_effects_on_null"])
+    out += ("Single-effect datasets with a real gap (baseline held-out chi-square ratio > %.1f): %d; the true effect "
+            "is the verdict in %d, another effect in %d. Without a gap (the re-tuned coefficients absorb the effect): "
+            "%d, verdict none in %d, an effect in %d.\n\n" % (
+                1 + NONE_TOLERANCE, s["gap_cases"], s["gap_top1"], s["gap_misattributed"], s["no_gap_cases"],
+                s["no_gap_none"], s["no_gap_false"]))
     out += "| case | truth | strength | verdict | true effect's rank | baseline held-out | noise floor | " \
-           "oracle shrink | true effect's shrink | / oracle | fitted strength | time |\n|" + "---|" * 12 + "\n"
+           "held-out chi2 ratio | oracle shrink | true effect's shrink | / oracle | fitted strength | time |\n|" + \
+           "---|" * 13 + "\n"
     for r in s["rows"]:
         fs = r.get("fitted_strength", "")
         if isinstance(fs, (list, tuple)):
             fs = "%.2f, %.2f" % tuple(fs)
         elif fs != "":
             fs = "%.2f" % fs
-        out += "| %s | %s | %s | %s | %s | %.2f cm | %.2f cm | %.1f %% | %s | %s | %s | %.0f s |\n" % (
+        out += "| %s | %s | %s | %s | %s | %.2f cm | %.2f cm | %.2f | %.1f %% | %s | %s | %s | %.0f s |\n" % (
             r["case"], r["truth"], r["strength"], r["verdict"], r.get("true_rank", ""), r["baseline_holdout_cm"],
-            r["noise_cm"], 100 * r["oracle_shrink"],
+            r["noise_cm"], r["chi2"], 100 * r["oracle_shrink"],
             "%.1f %%" % (100 * r["true_shrink"]) if "true_shrink" in r else "",
             "%.2f" % r["shrink_vs_oracle"] if "shrink_vs_oracle" in r else "", fs, r["seconds"])
     return out

@@ -285,6 +285,30 @@ void EffectAero::flows(const FlightState& s, WingFlow* out) const {
     }
   }
   const int passes = iterate_ ? 4 : 1;
+  // Interference: the horseshoe of wing i induces at wing j a velocity
+  // proportional to its circulation, with a geometry fixed for this state
+  // (the legs follow the free stream): the unit-circulation velocities are
+  // computed once here, and each pass only scales them.
+  Vec2 unit[8][8];
+  if (values_.downwash != 0 && passes > 1) {
+    const V3 d = V > 0 ? V3{a.x / V, a.y / V, 0.0} : V3{-1, 0, 0};
+    for (std::size_t i = 0; i < nn; ++i) {
+      const auto& wi = f_.wings[i];
+      const double bp = kPi / 4 * wi.span;
+      const V3 A{wi.quarter_chord.x, wi.quarter_chord.y, -bp / 2}, B{wi.quarter_chord.x, wi.quarter_chord.y, bp / 2};
+      const double rc = 0.25 * wi.mean_chord;
+      for (std::size_t j = 0; j < nn; ++j) {
+        unit[i][j] = {0, 0};
+        if (j == i) continue;
+        const auto& wj = f_.wings[j];
+        for (double zf : {0.0, 0.3, 0.6}) {
+          const V3 P{wj.three_quarter_chord.x, wj.three_quarter_chord.y, zf * wj.span / 2};
+          const V3 v = horseshoe_velocity(P, A, B, d, 1.0, rc);
+          unit[i][j] = unit[i][j] + Vec2{v[0], v[1]};
+        }
+      }
+    }
+  }
   for (int pass = 0; pass < passes; ++pass) {
     for (std::size_t j = 0; j < nn; ++j) {
       const Vec2 u = aj[j] + w[j];
@@ -309,26 +333,14 @@ void EffectAero::flows(const FlightState& s, WingFlow* out) const {
       out[j].cl = lift / f_.wings[j].area;
     }
     if (pass + 1 == passes || values_.downwash == 0) continue;
-    // Interference: horseshoe vortices of the other wings.
-    const V3 d = V > 0 ? V3{a.x / V, a.y / V, 0.0} : V3{-1, 0, 0};
+    // Interference: horseshoe vortices of the other wings, circulation
+    // Gamma_i = V_i C_L,i S_i / (2 b'_i) from this pass's table lift.
     for (std::size_t j = 0; j < nn; ++j) w[j] = {0, 0};
     for (std::size_t i = 0; i < nn; ++i) {
       const auto& wi = f_.wings[i];
-      const double bp = kPi / 4 * wi.span;
-      const double gamma = 0.5 * out[i].speed * out[i].cl * wi.area / bp;
-      const V3 A{wi.quarter_chord.x, wi.quarter_chord.y, -bp / 2}, B{wi.quarter_chord.x, wi.quarter_chord.y, bp / 2};
-      const double rc = 0.25 * wi.mean_chord;
-      for (std::size_t j = 0; j < nn; ++j) {
-        if (j == i) continue;
-        const auto& wj = f_.wings[j];
-        Vec2 sum{0, 0};
-        for (double zf : {0.0, 0.3, 0.6}) {
-          const V3 P{wj.three_quarter_chord.x, wj.three_quarter_chord.y, zf * wj.span / 2};
-          const V3 v = horseshoe_velocity(P, A, B, d, gamma, rc);
-          sum = sum + Vec2{v[0], v[1]};
-        }
-        w[j] = w[j] + (values_.downwash / 3.0) * sum;
-      }
+      const double gamma = 0.5 * out[i].speed * out[i].cl * wi.area / (kPi / 4 * wi.span);
+      for (std::size_t j = 0; j < nn; ++j)
+        if (j != i) w[j] = w[j] + (values_.downwash * gamma / 3.0) * unit[i][j];
     }
   }
 }
