@@ -81,6 +81,14 @@ def test_verdict_agrees_with_the_significance_decisions(camera_case):
         assert sig == []
 
 
+def test_no_candidate_explains_the_flights_worse_than_the_baseline_it_contains(camera_case):
+    """Every candidate nests the baseline (strength 0), so its fit to all
+    gliders can only be as good or better."""
+    _, j, _, _ = camera_case
+    for e in j["effects"]:
+        assert e["fit_rmse_m"] <= j["baseline"]["fit_rmse_m"] * (1 + 1e-12), e["name"]
+
+
 def test_counts_and_noise_are_those_of_the_dataset(camera_case):
     ds, j, _, _ = camera_case
     with open(ds.parent / "flights.csv") as f:
