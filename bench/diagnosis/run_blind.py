@@ -27,9 +27,8 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
-GLIDERS = ["t01-rectangular", "t02-rectangular-low-ar", "t03-rectangular-long", "t04-tapered-mild",
-           "t05-tapered-strong", "t06-swept-15", "t07-swept-30", "t09-forward-swept-15", "t11-delta", "t12-elliptic",
-           "t14-straight-trailing-edge", "t17-canard"]
+GLIDERS = ["t01-rectangular", "t03-rectangular-long", "t04-tapered-mild", "t06-swept-15", "t09-forward-swept-15",
+           "t12-elliptic", "t14-straight-trailing-edge", "t17-canard"]
 EFFECTS = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect", "launch_rotation",
            "added_mass", "wind", "camera"]
 # The recording protocol (docs/diagnosis.md, "Blind validation"): every glider
@@ -45,23 +44,25 @@ DIAG = ["--max-centres", "8", "--folds", "4"]
 
 def cases(quick):
     """The case list, most informative first (a run stopped early still covers
-    every effect once and the null data)."""
-    c = [{"name": "null-s31", "truth": [], "strength": {}, "seed": 31}]
+    every effect once and the null data). Seed 21 is not used: its datasets
+    (and null seed 31) were the development data on which the fitting
+    changes of this protocol were made (docs/diagnosis.md)."""
+    c = [{"name": "null-s32", "truth": [], "strength": {}, "seed": 32}]
     for e in EFFECTS:
-        c.append({"name": "%s-1-s21" % e, "truth": [e], "strength": {e: 1.0}, "seed": 21, "main": True})
-    c.append({"name": "null-s32", "truth": [], "strength": {}, "seed": 32})
+        c.append({"name": "%s-1-s22" % e, "truth": [e], "strength": {e: 1.0}, "seed": 22, "main": True})
+    c.append({"name": "null-s33", "truth": [], "strength": {}, "seed": 33})
     for e in EFFECTS:  # twice the nominal strength: where the detection threshold lies
-        c.append({"name": "%s-2-s21" % e, "truth": [e], "strength": {e: 2.0}, "seed": 21})
+        c.append({"name": "%s-2-s23" % e, "truth": [e], "strength": {e: 2.0}, "seed": 23})
     c.append({"name": "wind+camera-s41", "truth": ["wind", "camera"], "strength": {"wind": 1.0, "camera": 1.0},
               "seed": 41})
     c.append({"name": "pitch_damping+wind-s42", "truth": ["pitch_damping", "wind"],
               "strength": {"pitch_damping": 1.0, "wind": 1.0}, "seed": 42})
-    c.append({"name": "null-s33", "truth": [], "strength": {}, "seed": 33})
+    c.append({"name": "null-s34", "truth": [], "strength": {}, "seed": 34})
     if quick:
         return c
     for e in EFFECTS:
-        c.append({"name": "%s-1-s22" % e, "truth": [e], "strength": {e: 1.0}, "seed": 22, "main": True})
-    c.append({"name": "null-s34", "truth": [], "strength": {}, "seed": 34})
+        c.append({"name": "%s-1-s24" % e, "truth": [e], "strength": {e: 1.0}, "seed": 24, "main": True})
+    c.append({"name": "null-s35", "truth": [], "strength": {}, "seed": 35})
     return c
 
 

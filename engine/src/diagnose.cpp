@@ -264,11 +264,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // Every candidate on a set of flights, coefficients fixed at the baseline's;
   // then the `polish` candidates that gained most refitted with the coefficients.
   auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label,
-                         bool counted = true) {
+                         bool counted = true, std::vector<int> which = {}) {
     std::vector<FitOutcome> out(ne);
     const auto warm = launches_of(base);
     const auto trims = trims_of(D, flights, o.trim);
-    for (int e = 0; e < ne; ++e) {
+    if (which.empty())
+      for (int e = 0; e < ne; ++e) which.push_back(e);
+    for (int e : which) {
       auto free = params_of(o.effects[e]);
       free.insert(free.end(), trims.begin(), trims.end());
       // Start where a launch-only refit explains the flights best: at zero
@@ -294,10 +296,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                            "): RMSE " + cm(out[e].rmse()) + " (baseline " + cm(base.rmse()) + ")", counted);
     }
     if (o.polish > 0 && centre_count(base.model.coefficients) > 0) {
-      std::vector<int> order(ne);
-      std::iota(order.begin(), order.end(), 0);
+      std::vector<int> order = which;
       std::sort(order.begin(), order.end(), [&](int a, int b) { return out[a].sse < out[b].sse; });
-      for (int i = 0; i < std::min(o.polish, ne); ++i) {
+      for (int i = 0; i < std::min<int>(o.polish, static_cast<int>(order.size())); ++i) {
         const int e = order[i];
         if (!(out[e].sse < base.sse)) continue;
         auto free = coefficient_params(base.model.coefficients);
@@ -342,8 +343,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     if (improve_baseline(base, out, flights)) {
       report("baseline", label + ": baseline refitted from the candidates' launches: RMSE " + cm(base.rmse()) +
                              "; candidates refitted from it", false);
-      const std::vector<FitOutcome> again = fit_effects(base, flights, label + " (again)", false);
+      // Candidates that beat even the new baseline keep their fits; the
+      // others start again from it.
+      std::vector<int> redo;
       for (int e = 0; e < ne; ++e)
+        if (!(out[e].sse < base.sse - 0.2 * s2_noise)) redo.push_back(e);
+      const std::vector<FitOutcome> again = fit_effects(base, flights, label + " (again)", false, redo);
+      for (int e : redo)
         if (again[e].sse < out[e].sse) out[e] = again[e];
     }
     for (auto& x : out)

@@ -33,7 +33,7 @@ std::vector<EffectSpec> make_specs() {
       {Effect::FuselageDrag, "fuselage_drag", "laminar friction drag of the fuselage plate (both faces)",
        EffectLevel::Aerodynamic, {k(10)}},
       {Effect::GroundEffect, "ground_effect", "the induced angle falls near the ground (McCormick's factor)",
-       EffectLevel::Aerodynamic, {k(10)}},
+       EffectLevel::Aerodynamic, {k(3)}},
       {Effect::LaunchRotation, "launch_rotation", "a common pitch rate at the first tracked point of every flight",
        EffectLevel::Launch, {{"pitch_rate_deg_s", "rad/s", 1.0, -20.0, 20.0, kRadToDeg, {-1.0, 1.0}}}},
       {Effect::AddedMass, "added_mass", "apparent mass and rotary inertia of the plates moving normal to themselves",
