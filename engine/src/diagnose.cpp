@@ -298,15 +298,29 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     if (o.polish > 0 && centre_count(base.model.coefficients) > 0) {
       std::vector<int> order = which;
       std::sort(order.begin(), order.end(), [&](int a, int b) { return out[a].sse < out[b].sse; });
+      // Every candidate (polish >= the number of candidates) or the most
+      // promising ones. With the coefficients fixed, an effect they already
+      // absorbed looks useless (pitch damping on damped flights: best at
+      // strength 0 with fixed coefficients, 0.64 and near the noise when
+      // refitted together), so when all are polished an aerodynamic
+      // correction starts from its theoretical size (strength 1).
+      const bool all = o.polish >= ne;
       for (int i = 0; i < std::min<int>(o.polish, static_cast<int>(order.size())); ++i) {
         const int e = order[i];
-        if (!(out[e].sse < base.sse)) continue;
+        if (!all && !(out[e].sse < base.sse)) continue;
         auto free = coefficient_params(base.model.coefficients);
         const auto p = params_of(o.effects[e]);
         free.insert(free.end(), p.begin(), p.end());
         free.insert(free.end(), trims.begin(), trims.end());
         const auto w = launches_of(out[e]);
-        out[e] = D.fit(out[e].model, flights, free, &w);
+        DiagModel start = out[e].model;
+        if (all && effect_spec(o.effects[e]).level == EffectLevel::Aerodynamic)
+          for (std::size_t k = 0; k < p.size(); ++k) {
+            double& v = start.effects.at(o.effects[e], static_cast<int>(k));
+            v = std::max(v, 1.0);
+          }
+        FitOutcome polished = D.fit(start, flights, free, &w);
+        if (polished.sse < out[e].sse) out[e] = std::move(polished);
         report("effect", label + ": " + effect_name(o.effects[e]) + " refitted with the coefficients (" +
                              describe_parameters(o.effects[e], effect_values(out[e].model.effects, o.effects[e])) +
                              "): RMSE " + cm(out[e].rmse()), false);

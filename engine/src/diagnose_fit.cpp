@@ -447,6 +447,14 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
   if (warm && static_cast<int>(warm->size()) == nf) L = *warm;
   double sse = C.fit_all(*S, L, lr, warm && static_cast<int>(warm->size()) == nf, R);
   int iterations = 0;
+  // Tikhonov pull of free centre values toward the start model (u = 0).
+  const double reg2 = coef ? o_.coefficient_regularisation_m * o_.coefficient_regularisation_m : 0.0;
+  auto penalty = [&](const std::vector<double>& uu) {
+    double p = 0;
+    for (int k = 0; k < np; ++k)
+      if (free[k].kind == FreeParam::Coefficient) p += reg2 * uu[free[k].index] * uu[free[k].index];
+    return p;
+  };
 
   if (np > 0) {
     double lambda = 1e-3;
@@ -504,6 +512,11 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
         H += Jp[f].transpose() * Jp[f];
         grad += Jp[f].transpose() * R[f];
       }
+      for (int k = 0; k < np; ++k)
+        if (free[k].kind == FreeParam::Coefficient) {
+          H(k, k) += reg2;
+          grad(k) += reg2 * u[free[k].index];
+        }
       bool accepted = false;
       for (int trial = 0; trial < 6 && !accepted; ++trial) {
         Eigen::MatrixXd A = H;
@@ -538,10 +551,10 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
           std::fprintf(stderr, "it %d trial %d lambda %g step %g -> sse %g (from %g) sims %ld refine its/call %g\n", it,
                        trial, lambda, taken(0), sset, sse, static_cast<long>(C.sims),
                        double(C.refine_iterations) / std::max<long>(1, C.refines));
-        if (std::isfinite(sset) && sset < sse) {
+        if (std::isfinite(sset) && sset + penalty(ut) < sse + penalty(u)) {
           const double sset2 = sset;
-          const double sse_prev = sse;
-          const double rel = (sse - sset2) / sse;
+          const double obj_prev = sse + penalty(u), obj_new = sset + penalty(ut);
+          const double rel = (obj_prev - obj_new) / obj_prev;
           model = mt;
           u = ut;
           aero = at;
@@ -555,7 +568,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
           ++iterations;
           // Converged when the gain is a small fraction of the SSE or of one
           // unit of chi-square (tracking noise): nothing a test could see.
-          if (rel < o_.tolerance || sse_prev - sse < 0.2 * s2) {
+          if (rel < o_.tolerance || obj_prev - obj_new < 0.2 * s2) {
             // Before stopping, multi-start the flights that still fit badly
             // (their launch may sit in a basin the model has left); go on
             // iterating if that changed the fit noticeably.

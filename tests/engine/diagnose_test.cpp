@@ -194,3 +194,41 @@ TEST(Diagnose, FindsTheCorrectionThatMadeTheFlights) {
     }
   }
 }
+
+// A polished fit (centre values free with an effect) pays for moving a value
+// away from the start model: with a very strong pull the values stay where
+// they were and the fit is the fixed-coefficient one; without it they move
+// and fit the flights at least as well (the pull is a Tikhonov term, not a
+// constraint).
+TEST(DiagnosisFit, PolishedCentreValuesArePulledTowardTheStart) {
+  EffectValues truth;
+  truth.pitch_damping = 1.0;
+  const Dataset d = corrected_flights(truth, 0.002, 9);
+  FitOptions fo;
+  fo.max_centres = 1;
+  fo.threads = 2;
+  const auto rbf = fit_coefficients(d, fo).model;
+  ASSERT_TRUE(rbf);
+  ASSERT_GE(rbf->centres().size(), 1u);
+  std::vector<FreeParam> free;
+  for (std::size_t k = 0; k < 3 * rbf->centres().size(); ++k) free.push_back(FreeParam::coefficient(static_cast<int>(k)));
+  free.push_back(FreeParam::effect_param(Effect::PitchDamping, 0));
+  auto deviation = [&](const FitOutcome& r) {  // largest change of a value, in scale units (cd 0.02, cl 0.1, cm 0.02)
+    const auto m = std::dynamic_pointer_cast<const RbfModel>(r.model.coefficients);
+    double dev = 0;
+    for (std::size_t k = 0; k < m->centres().size(); ++k) {
+      const Coefficients a = m->centres()[k].value, b = rbf->centres()[k].value;
+      dev = std::max({dev, std::abs(a.cd - b.cd) / 0.02, std::abs(a.cl - b.cl) / 0.1, std::abs(a.cm - b.cm) / 0.02});
+    }
+    return dev;
+  };
+  DiagFitOptions loose = quick(), tight = quick();
+  loose.coefficient_regularisation_m = 0.0;
+  tight.coefficient_regularisation_m = 100.0;
+  const DiagnosisData Dl(d, loose), Dt(d, tight);
+  const DiagModel start{rbf, {}, {}};
+  const FitOutcome rl = Dl.fit(start, all_flights(d), free), rt = Dt.fit(start, all_flights(d), free);
+  EXPECT_GT(deviation(rl), 1e-3);
+  EXPECT_LT(deviation(rt), 1e-2 * deviation(rl));
+  EXPECT_LE(rl.sse, rt.sse * (1 + 1e-9));
+}

@@ -81,6 +81,10 @@ struct DiagnoseOptions {
   /// that lower the training error most with fixed coefficients are refitted
   /// jointly with the centre values (their strength is then not biased by
   /// coefficients that absorbed part of the effect). 0 = fixed coefficients.
+  /// polish >= effects.size(): every candidate is refitted so, an aerodynamic
+  /// one starting from strength 1 (with fixed coefficients an absorbed effect
+  /// shows no gain and would not be chosen); the centre values are pulled
+  /// toward the baseline's (DiagFitOptions::coefficient_regularisation_m).
   int polish = 0;
   int threads = 0;                ///< 0 = all cores
 };

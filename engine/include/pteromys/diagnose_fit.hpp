@@ -90,6 +90,13 @@ struct DiagFitOptions {
   double tolerance = 1e-4;      ///< stop when the SSE falls by less than this fraction (or by < 0.2 sigma^2)
   int threads = 0;              ///< 0 = all cores
   AeroOptions aero;             ///< wing-element spacing, table grid
+  /// When RBF centre values are free (a polished fit): each value's change
+  /// from the start model, in its scale unit (cd 0.02, cl 0.1, cm 0.02), costs
+  /// as much as this position error [m] (a Tikhonov pull toward the start,
+  /// as FitOptions::regularisation_m pulls toward the prior): values that no
+  /// flight constrains stay where they were instead of drifting to where
+  /// held-out gliders then fly wild.
+  double coefficient_regularisation_m = 0.01;
 };
 
 /// Flights, gliders and simulation settings of one dataset; fits of models to
