@@ -170,6 +170,31 @@ TEST(Diagnose, RefusesTooFewGlidersAndBadOptions) {
   }
 }
 
+// The whole pipeline, small enough to run under the sanitizers: flights of
+// the baseline model itself with 1 cm noise leave no gap, so no candidate is
+// significant and the verdict is "none"; the held-out chi-square ratio is
+// that of noise (about 1), and the JSON has the spec's keys.
+TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
+  const Dataset d = corrected_flights(EffectValues{}, 0.01, 7);
+  DiagnoseOptions o;
+  o.folds = 3;
+  o.effects = {Effect::Wind, Effect::LaunchRotation};
+  o.fit.max_centres = 1;
+  o.threads = 2;
+  const DiagnoseResult r = diagnose(d, o);
+  EXPECT_EQ(r.verdict, "none") << r.summary;
+  EXPECT_LT(r.holdout_chi2_ratio, 1.3) << r.summary;
+  EXPECT_GT(r.holdout_chi2_ratio, 0.5) << r.summary;
+  ASSERT_EQ(r.effects.size(), 2u);
+  for (const auto& e : r.effects) EXPECT_FALSE(e.significant) << e.name;
+  const nlohmann::json j = diagnosis_json(r, o);
+  EXPECT_EQ(j.at("verdict"), "none");
+  EXPECT_TRUE(j.at("baseline").contains("fit_rmse_m"));
+  EXPECT_TRUE(j.at("baseline").contains("holdout_rmse_m"));
+  for (const auto& e : j.at("effects"))
+    for (const char* k : {"name", "holdout_rmse_m", "shrink", "significant"}) EXPECT_TRUE(e.contains(k)) << k;
+}
+
 // The whole diagnosis on flights of the corrected model itself (pitch damping
 // at its full size, 2 mm noise): the true candidate is the verdict with its
 // strength recovered, and no candidate explains the flights worse than the
