@@ -219,10 +219,23 @@ def markdown(s):
     return out
 
 
+def selected(args):
+    """The cases to run: the list (quick or full), or those named by --cases
+    in the order given (names of either list)."""
+    if not args.cases:
+        return cases(args.quick)
+    known = {c["name"]: c for c in cases(False)}
+    names = [n for n in args.cases.split(",") if n]
+    bad = [n for n in names if n not in known]
+    if bad:
+        sys.exit("run_blind.py: unknown case(s) %s; cases are: %s" % (", ".join(bad), ", ".join(known)))
+    return [known[n] for n in names]
+
+
 def run_all(args, gl_dir):
     results = []
     with cf.ThreadPoolExecutor(args.jobs) as ex:
-        futs = [ex.submit(one, c, args, gl_dir) for c in cases(args.quick)]
+        futs = [ex.submit(one, c, args, gl_dir) for c in selected(args)]
         for fu in cf.as_completed(futs):
             try:
                 c, r = fu.result()
@@ -242,6 +255,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "blind"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--cases", default="", help="comma list of case names to run, in this order (default: the list)")
     ap.add_argument("--summarise", action="store_true", help="only tabulate the cases that have finished")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -253,15 +267,17 @@ def main():
         if not os.path.isfile(dst):
             with open(src) as f, open(dst, "w") as o:
                 o.write(f.read())
+    if not args.summarise:
+        run_all(args, gl_dir)
+    # The summary covers every finished case of the full list in --out, so
+    # that runs of parts of the list (--cases, --quick, runs stopped early)
+    # add up.
     results = []
-    if args.summarise:
-        for c in cases(args.quick):
-            res = os.path.join(args.out, c["name"], "diagnosis.json")
-            if os.path.isfile(res):
-                with open(res) as f:
-                    results.append((c, json.load(f)))
-    else:
-        results = run_all(args, gl_dir)
+    for c in cases(False):
+        res = os.path.join(args.out, c["name"], "diagnosis.json")
+        if os.path.isfile(res):
+            with open(res) as f:
+                results.append((c, json.load(f)))
     results.sort(key=lambda cr: cr[0]["name"])
     s = summarise(results)
     with open(os.path.join(args.out, "summary.json"), "w") as f:

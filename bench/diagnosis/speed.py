@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Speed of `pteromys diagnose` on the issue's reference size (issue 7, "Speed"):
-a 20-glider dataset of about 110 flights, every diagnosis default, with the
+a 20-glider dataset of 110-120 flights, every diagnosis default, with the
 readable report. Prints wall clock, CPU time, peak memory and the phase
 timings the diagnosis stores (docs/diagnosis.md, "Speed").
 
@@ -8,9 +8,9 @@ timings the diagnosis stores (docs/diagnosis.md, "Speed").
 
 The dataset is what `pteromys generate` makes of the 20 training gliders with
 the six aerodynamic effects on (`--effects physics`), 6 launches each at the
-paper's tracking (30 fps, 15-20 points, 5 cm noise); launches that tumble or
-leave fewer than 6 points are left out by the generator, which is how 120
-launches become about 110 flights.
+paper's tracking (30 fps, 15-20 points, 5 cm noise): 120 flights, 2104
+points with the default seed (launches that leave fewer than 6 tracked points
+would be left out by the generator).
 """
 import argparse
 import glob
