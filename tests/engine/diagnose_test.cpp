@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "pteromys/diagnose.hpp"
 #include "pteromys/diagnose_fit.hpp"
@@ -67,6 +69,17 @@ std::vector<int> all_flights(const Dataset& d) {
   std::vector<int> f;
   for (std::size_t i = 0; i < d.flights.size(); ++i) f.push_back(static_cast<int>(i));
   return f;
+}
+
+/// A whole diagnosis small enough for a test: 3 folds, one RBF centre,
+/// only the candidates `effects`.
+DiagnoseOptions small_diagnosis(std::vector<Effect> effects) {
+  DiagnoseOptions o;
+  o.folds = 3;
+  o.effects = std::move(effects);
+  o.fit.max_centres = 1;
+  o.threads = 2;
+  return o;
 }
 
 DiagFitOptions quick() {
@@ -176,11 +189,7 @@ TEST(Diagnose, RefusesTooFewGlidersAndBadOptions) {
 // that of noise (about 1), and the JSON has the spec's keys.
 TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
   const Dataset d = corrected_flights(EffectValues{}, 0.01, 7);
-  DiagnoseOptions o;
-  o.folds = 3;
-  o.effects = {Effect::Wind, Effect::LaunchRotation};
-  o.fit.max_centres = 1;
-  o.threads = 2;
+  const DiagnoseOptions o = small_diagnosis({Effect::Wind, Effect::LaunchRotation});
   const DiagnoseResult r = diagnose(d, o);
   EXPECT_EQ(r.verdict, "none") << r.summary;
   EXPECT_LT(r.holdout_chi2_ratio, 1.3) << r.summary;
@@ -203,11 +212,7 @@ TEST(Diagnose, FindsTheCorrectionThatMadeTheFlights) {
   EffectValues truth;
   truth.pitch_damping = 1.0;
   const Dataset d = corrected_flights(truth, 0.002, 5);
-  DiagnoseOptions o;
-  o.folds = 3;
-  o.effects = {Effect::PitchDamping, Effect::AddedMass};  // the pair that damps pitch alike
-  o.fit.max_centres = 1;
-  o.threads = 2;
+  const DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::AddedMass});  // they damp pitch alike
   const DiagnoseResult r = diagnose(d, o);
   EXPECT_EQ(r.verdict, "pitch_damping") << r.summary;
   for (const auto& e : r.effects) {
