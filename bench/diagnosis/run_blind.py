@@ -123,6 +123,8 @@ NONE_TOLERANCE = 0.3  # the engine's default (DiagnoseOptions::none_tolerance)
 def decide(r):
     """Significance and verdict from the stored tests with the engine's final
     rule (runs made with an older --min-shrink are re-decided the same way)."""
+    if "also" in r:  # made with the second round: the engine's own decision (same defaults)
+        return r
     for e in r["effects"]:
         e["significant"] = bool(e["likelihood_ratio"]["pass"] and e["shrink"] >= MIN_SHRINK and
                                 e["cross_validation"]["delta_chi2"] > e["cross_validation"]["threshold"])
@@ -134,6 +136,14 @@ def decide(r):
     else:
         r["verdict"] = "unexplained"
     return r
+
+
+def fmt_strength(fs):
+    if isinstance(fs, (list, tuple)):
+        return "%.2f, %.2f" % tuple(fs)
+    if isinstance(fs, str):
+        return fs
+    return "%.2f" % fs
 
 
 def summarise(results):
@@ -160,7 +170,12 @@ def summarise(results):
                "strength": ",".join("%g" % v for v in c["strength"].values()), "verdict": r["verdict"],
                "baseline_holdout_cm": 100 * b["holdout_rmse_m"], "noise_cm": 100 * b["noise_rmse_m"],
                "oracle_shrink": oracle, "chi2": b["holdout_chi2_ratio"], "seconds": r.get("timings", {}).get("total_s", 0.0),
-               "significant": [e["name"] for e in r["effects"] if e["significant"]]}
+               "significant": [e["name"] for e in r["effects"] if e["significant"]],
+               "also": r.get("also"), "replaced": r.get("replaced", "")}
+        if len(c["truth"]) == 2:
+            row["true_rank"] = ", ".join(str([x["name"] for x in r["effects"]].index(t) + 1) for t in c["truth"])
+            row["fitted_strength"] = ", ".join("%s %s" % (t, fmt_strength(strength_of(t, eff[t].get("parameters", {}))))
+                                               for t in c["truth"])
         if len(c["truth"]) == 1:
             e = eff[c["truth"][0]]
             row["true_shrink"] = e["shrink"]
@@ -173,6 +188,10 @@ def summarise(results):
     # ratio above the "none" tolerance, i.e. the baseline with re-tuned
     # coefficients does not already predict held-out gliders to the noise.
     # Below it, "none" is the right answer (the effect is absorbed).
+    # Two-effect datasets: the verdict should be one of the two, and at best
+    # both are significant; an effect outside the truth declared significant
+    # is a false discovery.
+    two = [(c, r) for c, r in results if len(c["truth"]) == 2]
     gap = [(c, r) for c, r in single if r["baseline"]["holdout_chi2_ratio"] > 1 + NONE_TOLERANCE]
     no_gap = [(c, r) for c, r in single if r["baseline"]["holdout_chi2_ratio"] <= 1 + NONE_TOLERANCE]
     return {"confusion": conf, "top1": top1, "single_nominal": len(nominal), "null_false": false_disc,
@@ -180,6 +199,15 @@ def summarise(results):
             "gap_misattributed": sum(1 for c, r in gap if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
             "no_gap_cases": len(no_gap), "no_gap_none": sum(1 for c, r in no_gap if r["verdict"] == "none"),
             "no_gap_false": sum(1 for c, r in no_gap if r["verdict"] in EFFECTS),
+            "two_effect_cases": len(two),
+            "two_effect_verdict_in_truth": sum(1 for c, r in two if r["verdict"] in c["truth"]),
+            "two_effect_both_found": sum(1 for c, r in two if set(c["truth"]) <= {r["verdict"]} | set(r.get("also", []))),
+            "also_outside_truth": sum(sum(1 for a in r.get("also", []) if a not in c["truth"]) for c, r in results),
+            "second_round_cases": sum(1 for c, r in results if "also" in r),
+            "two_effect_both_significant": sum(1 for c, r in two if all(
+                e["significant"] for e in r["effects"] if e["name"] in c["truth"])),
+            "two_effect_wrong_significant": sum(sum(1 for e in r["effects"] if e["significant"] and
+                                                    e["name"] not in c["truth"]) for c, r in two),
             "nulls": len(nulls), "null_none": null_none, "significant_effects_on_null": sig_null, "rows": rows,
             "median_shrink_vs_oracle_when_right": sorted(ratios)[len(ratios) // 2] if ratios else None}
 
@@ -202,17 +230,22 @@ def markdown(s):
             "%d, verdict none in %d, an effect in %d.\n\n" % (
                 1 + NONE_TOLERANCE, s["gap_cases"], s["gap_top1"], s["gap_misattributed"], s["no_gap_cases"],
                 s["no_gap_none"], s["no_gap_false"]))
-    out += "| case | truth | strength | verdict | true effect's rank | baseline held-out | noise floor | " \
+    if s["two_effect_cases"]:
+        out += ("Two-effect datasets: %d; the verdict is one of the two in %d, both found (the verdict and the "
+                "other in the second round's `also`) in %d, both significant on their own in %d; effects outside "
+                "the truth significant on their own: %d.\n\n" % (
+                    s["two_effect_cases"], s["two_effect_verdict_in_truth"], s["two_effect_both_found"],
+                    s["two_effect_both_significant"], s["two_effect_wrong_significant"]))
+    out += ("Cases diagnosed with the second round: %d; effects it added (`also`) that are not in the truth: "
+            "%d.\n\n" % (s["second_round_cases"], s["also_outside_truth"]))
+    out += "| case | truth | strength | verdict | also | true effect's rank | baseline held-out | noise floor | " \
            "held-out chi2 ratio | oracle shrink | true effect's shrink | / oracle | fitted strength | time |\n|" + \
-           "---|" * 13 + "\n"
+           "---|" * 14 + "\n"
     for r in s["rows"]:
-        fs = r.get("fitted_strength", "")
-        if isinstance(fs, (list, tuple)):
-            fs = "%.2f, %.2f" % tuple(fs)
-        elif fs != "":
-            fs = "%.2f" % fs
-        out += "| %s | %s | %s | %s | %s | %.2f cm | %.2f cm | %.2f | %.1f %% | %s | %s | %s | %.0f s |\n" % (
-            r["case"], r["truth"], r["strength"], r["verdict"], r.get("true_rank", ""), r["baseline_holdout_cm"],
+        fs = fmt_strength(r.get("fitted_strength", ""))
+        out += "| %s | %s | %s | %s | %s | %s | %.2f cm | %.2f cm | %.2f | %.1f %% | %s | %s | %s | %.0f s |\n" % (
+            r["case"], r["truth"], r["strength"], r["verdict"], ", ".join(r["also"]) if r["also"] is not None else "n/a",
+            r.get("true_rank", ""), r["baseline_holdout_cm"],
             r["noise_cm"], r["chi2"], 100 * r["oracle_shrink"],
             "%.1f %%" % (100 * r["true_shrink"]) if "true_shrink" in r else "",
             "%.2f" % r["shrink_vs_oracle"] if "shrink_vs_oracle" in r else "", fs, r["seconds"])

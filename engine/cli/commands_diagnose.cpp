@@ -108,8 +108,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   const std::set<std::string> valued = {"--json", "--report", "--model", "--folds", "--effects", "--alpha",
                                         "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
-                                        "--iterations", "--worst-flights", "--polish"};
-  const Args a = parse_args(argv, valued, {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test"});
+                                        "--iterations", "--worst-flights", "--polish", "--launch-rotation"};
+  const Args a = parse_args(argv, valued,
+                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -130,6 +131,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.trim = !a.flag("--no-trim");
   o.full_fit = !a.flag("--no-full-fit");
   o.holdout_chi2_test = !a.flag("--no-holdout-test");
+  o.second_effect = !a.flag("--no-second-round");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);
@@ -150,6 +152,12 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("--launch-window and --near-ground must not be negative");
   o.worst_flights = whole(a, "--worst-flights", o.worst_flights, 0, 1000);
   o.polish = whole(a, "--polish", o.polish, 0, 100);
+  if (a.has("--launch-rotation")) {
+    const std::string lr = a.get("--launch-rotation");
+    if (lr != "per-flight" && lr != "common")
+      throw InputError("--launch-rotation must be 'per-flight' or 'common', not '" + lr + "'");
+    o.launch_rotation_per_flight = lr == "per-flight";
+  }
   if (a.has("--model")) {
     const auto m = load_model(a.get("--model"));
     if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;
@@ -245,6 +253,10 @@ const bool registered_diagnose = register_command(
          "                          number of candidates (e.g. 9) refits all of them, each\n"
          "                          aerodynamic one from its theoretical size: slower (about\n"
          "                          4x), and what finds effects the coefficients absorb (docs)\n"
+         "  --launch-rotation M     per-flight (default): every flight's own pitch rate at its\n"
+         "                          first point is fitted (one value per flight); common: one\n"
+         "                          rate for every flight of the session\n"
+         "  --no-second-round       do not test the other candidates added to the verdict's effect\n"
          "  --no-full-fit           skip the fit to all gliders (faster; LR tests from the folds)\n"
          "  --worst-flights N       flights shown before/after in the report (default 6)\n"
          "  --threads N             worker threads (default: all cores)\n"

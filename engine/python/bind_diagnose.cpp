@@ -87,12 +87,19 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("trim")) o.trim = kw["trim"].cast<bool>();
   if (kw.contains("full_fit")) o.full_fit = kw["full_fit"].cast<bool>();
   if (kw.contains("holdout_chi2_test")) o.holdout_chi2_test = kw["holdout_chi2_test"].cast<bool>();
+  if (kw.contains("second_effect")) o.second_effect = kw["second_effect"].cast<bool>();
   o.alpha = num("alpha", o.alpha);
   o.min_shrink = num("min_shrink", o.min_shrink);
   o.none_tolerance = num("none_tolerance", o.none_tolerance);
   o.collinearity_limit = num("collinearity_limit", o.collinearity_limit);
   o.fit.max_centres = whole("max_centres", o.fit.max_centres, 1, 200);
   o.polish = whole("polish", o.polish, 0, 100);
+  if (kw.contains("launch_rotation")) {
+    const std::string lr = kw["launch_rotation"].cast<std::string>();
+    if (lr != "per-flight" && lr != "common")
+      throw InputError("launch_rotation must be 'per-flight' or 'common', not '" + lr + "'");
+    o.launch_rotation_per_flight = lr == "per-flight";
+  }
   o.threads = whole("threads", 0, 0, 256);
   o.sim.ground_y = num("ground_y", 0.0);
   o.sim.dt = num("dt", o.sim.dt);

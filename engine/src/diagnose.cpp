@@ -231,6 +231,20 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     for (int k = 0; k < 3 * centre_count(m); ++k) out.push_back(FreeParam::coefficient(k));
     return out;
   };
+  // launch_rotation fitted per flight: no shared parameter (each flight's
+  // rate is a launch value); its reported strength is the flights' mean rate.
+  auto per_flight = [&](Effect e) { return e == Effect::LaunchRotation && o.launch_rotation_per_flight; };
+  auto shared_params_of = [&](Effect e) { return per_flight(e) ? std::vector<FreeParam>{} : params_of(e); };
+  auto with_rate = [](std::vector<LaunchParams> L, double rate) {
+    for (auto& l : L) l.pitch_rate = rate;
+    return L;
+  };
+  auto mean_rate = [](FitOutcome& f) {
+    if (!f.model.effects.launch_rotation_per_flight || f.flights.empty()) return;
+    double m = 0;
+    for (const auto& x : f.flights) m += x.launch.pitch_rate;
+    f.model.effects.launch_rotation = m / static_cast<double>(f.flights.size());
+  };
   // A fit repeated from its own result until a further pass gains less than
   // a fifth of one unit of chi-square (nothing a test could see): the
   // baseline must be as converged as the effects that start from it, or
@@ -263,15 +277,19 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   };
   // Every candidate on a set of flights, coefficients fixed at the baseline's;
   // then the `polish` candidates that gained most refitted with the coefficients.
+  // `extra`: parameters freed with every candidate's (the second round: the
+  // verdict's effect's strengths); such fits are not polished.
   auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label,
-                         bool counted = true, std::vector<int> which = {}) {
+                         bool counted = true, std::vector<int> which = {}, const std::vector<FreeParam>& extra = {},
+                         bool conditional = false) {
     std::vector<FitOutcome> out(ne);
     const auto warm = launches_of(base);
     const auto trims = trims_of(D, flights, o.trim);
     if (which.empty())
       for (int e = 0; e < ne; ++e) which.push_back(e);
     for (int e : which) {
-      auto free = params_of(o.effects[e]);
+      auto free = shared_params_of(o.effects[e]);
+      free.insert(free.end(), extra.begin(), extra.end());
       free.insert(free.end(), trims.begin(), trims.end());
       // Start where a launch-only refit explains the flights best: at zero
       // (the baseline) or at one of the effect's trial values.
@@ -279,23 +297,45 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       std::vector<LaunchParams> start_launches = warm;
       double start_sse = base.sse;
       const auto& sp = effect_spec(o.effects[e]);
-      for (std::size_t i = 0; i < sp.parameters.size(); ++i)
-        for (double v : sp.parameters[i].starts) {
-          DiagModel m = base.model;
-          m.effects.at(o.effects[e], static_cast<int>(i)) = v;
-          const FitOutcome t = D.fit(m, flights, {}, &warm);
+      if (per_flight(o.effects[e])) {
+        // Every flight's own rate, fitted with its launch from 0 (the
+        // baseline) or from each trial rate.
+        start.effects.launch_rotation_per_flight = true;
+        start_launches = with_rate(warm, 0.0);
+        start_sse = std::numeric_limits<double>::infinity();
+        for (double v : sp.parameters[0].starts) {
+          DiagModel m = start;
+          m.effects.launch_rotation = v;
+          const auto w = with_rate(warm, v);
+          const FitOutcome t = D.fit(m, flights, {}, &w);
           if (t.sse < start_sse) {
             start_sse = t.sse;
-            start = m;
             start_launches = launches_of(t);
           }
         }
+        const auto w0 = with_rate(warm, 0.0);
+        const FitOutcome t0 = D.fit(start, flights, {}, &w0);
+        if (t0.sse < start_sse) start_launches = launches_of(t0);
+      } else {
+        for (std::size_t i = 0; i < sp.parameters.size(); ++i)
+          for (double v : sp.parameters[i].starts) {
+            DiagModel m = base.model;
+            m.effects.at(o.effects[e], static_cast<int>(i)) = v;
+            const FitOutcome t = D.fit(m, flights, {}, &warm);
+            if (t.sse < start_sse) {
+              start_sse = t.sse;
+              start = m;
+              start_launches = launches_of(t);
+            }
+          }
+      }
       out[e] = settled(start, flights, free, &start_launches);
+      mean_rate(out[e]);
       report("effect", label + ": " + effect_name(o.effects[e]) + " (" +
                            describe_parameters(o.effects[e], effect_values(out[e].model.effects, o.effects[e])) +
                            "): RMSE " + cm(out[e].rmse()) + " (baseline " + cm(base.rmse()) + ")", counted);
     }
-    if (o.polish > 0 && centre_count(base.model.coefficients) > 0) {
+    if (o.polish > 0 && centre_count(base.model.coefficients) > 0 && !conditional) {
       std::vector<int> order = which;
       std::sort(order.begin(), order.end(), [&](int a, int b) { return out[a].sse < out[b].sse; });
       // Every candidate (polish >= the number of candidates) or the most
@@ -309,7 +349,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         const int e = order[i];
         if (!all && !(out[e].sse < base.sse)) continue;
         auto free = coefficient_params(base.model.coefficients);
-        const auto p = params_of(o.effects[e]);
+        const auto p = shared_params_of(o.effects[e]);
         free.insert(free.end(), p.begin(), p.end());
         free.insert(free.end(), trims.begin(), trims.end());
         const auto w = launches_of(out[e]);
@@ -320,6 +360,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
             v = std::max(v, 1.0);
           }
         FitOutcome polished = D.fit(start, flights, free, &w);
+        mean_rate(polished);
         if (polished.sse < out[e].sse) out[e] = std::move(polished);
         report("effect", label + ": " + effect_name(o.effects[e]) + " refitted with the coefficients (" +
                              describe_parameters(o.effects[e], effect_values(out[e].model.effects, o.effects[e])) +
@@ -371,6 +412,21 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return out;
   };
 
+  // Held-out gliders under a model fitted to training gliders: their launches
+  // and trims are fitted to their own points, starting from `from`'s.
+  auto ho_fit_on = [&](const FitOutcome& tr, const FitOutcome& from, const std::vector<int>& test,
+                       const std::vector<FreeParam>& ho_trims) {
+    DiagModel m = from.model;
+    m.coefficients = tr.model.coefficients;
+    m.effects = tr.model.effects;
+    auto w = launches_of(from);
+    // Per-flight launch rotation: the held-out flights' rates start from
+    // the training gliders' mean (from.model, the baseline, has none).
+    if (m.effects.launch_rotation_per_flight && !from.model.effects.launch_rotation_per_flight)
+      w = with_rate(w, m.effects.launch_rotation);
+    return settled(m, test, ho_trims, &w);
+  };
+
   DiagnoseResult res;
   res.sigma_m = sigma;
   res.gliders = static_cast<int>(flown.size());
@@ -412,6 +468,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   double train_sse0 = 0;
   int train_dof0 = 0;
   FitOutcome first_train;
+  // Every fold's fits, kept for the second round (given the verdict's effect).
+  std::vector<std::vector<int>> fold_train(K), fold_test(K);
+  std::vector<std::vector<FitOutcome>> fold_trs(K), fold_hos(K);
   res.fold_gliders.resize(K);
   const auto tfolds = Clock::now();
   for (int k = 0; k < K; ++k) {
@@ -440,13 +499,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // points under each model (the training gliders' coefficients and
     // strengths); the held-out baseline, too, takes the best launches found.
     const auto ho_trims = trims_of(D, test, o.trim);
-    auto ho_fit = [&](const FitOutcome& tr, const FitOutcome& from) {
-      DiagModel m = from.model;
-      m.coefficients = tr.model.coefficients;
-      m.effects = tr.model.effects;
-      const auto w = launches_of(from);
-      return settled(m, test, ho_trims, &w);
-    };
+    auto ho_fit = [&](const FitOutcome& tr, const FitOutcome& from) { return ho_fit_on(tr, from, test, ho_trims); };
     std::vector<FitOutcome> hos(ne);
     for (int e = 0; e < ne; ++e) hos[e] = ho_fit(trs[e], base_ho);
     if (improve_baseline(base_ho, hos, test))
@@ -454,6 +507,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         FitOutcome again = ho_fit(trs[e], base_ho);
         if (again.sse < hos[e].sse) hos[e] = std::move(again);
       }
+    fold_train[k] = train;
+    fold_test[k] = test;
+    fold_trs[k] = trs;
+    fold_hos[k] = hos;
     for (std::size_t i = 0; i < test.size(); ++i) {
       auto& h = res.heldout[test[i]];
       h.flight = test[i];
@@ -519,6 +576,16 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   }
   res.fit_chi2_ratio = sse0_fit / (s2 * dof_fit);
 
+  // Degrees of freedom a candidate adds: its parameters, or (launch rotation
+  // per flight) one rate per flight of the fit and of the held-out set.
+  const double train_flights = o.full_fit ? static_cast<double>(all_flights.size())
+                                          : static_cast<double>(all_flights.size()) * (K - 1) / K;
+  auto dof_fit_of = [&](Effect E) {
+    return per_flight(E) ? train_flights : static_cast<double>(effect_spec(E).parameters.size());
+  };
+  auto dof_ho_of = [&](Effect E) {
+    return per_flight(E) ? static_cast<double>(f_ho) : static_cast<double>(effect_spec(E).parameters.size());
+  };
   res.effects.resize(ne);
   for (int e = 0; e < ne; ++e) {
     const Effect E = o.effects[e];
@@ -526,6 +593,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     r.effect = E;
     r.name = effect_name(E);
     const int pe = static_cast<int>(effect_spec(E).parameters.size());
+    const double pe_fit = dof_fit_of(E), pe_ho = dof_ho_of(E);
     r.holdout_rmse_m = std::sqrt(sse_ho[e] / n_ho);
     r.shrink = 1 - r.holdout_rmse_m / res.holdout_rmse_m;
     r.fold_parameters = fold_params[e];
@@ -543,13 +611,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       for (const auto& fp : fold_params[e])
         for (int i = 0; i < pe; ++i) r.parameters[i] += fp[i] / K;
     }
-    const double s2_eff = std::max(s2, sse_e / std::max(1.0, dof_fit - pe));
+    const double s2_eff = std::max(s2, sse_e / std::max(1.0, dof_fit - pe_fit));
     r.delta_chi2 = std::max(0.0, dsse) / s2_eff;
-    r.p_value = chi2_sf(r.delta_chi2, pe);
+    r.p_value = chi2_sf(r.delta_chi2, pe_fit);
     // Held-out confirmation.
-    const double s2_ho = std::max(s2, sse_ho[e] / dof_ho);
+    const double s2_ho = std::max(s2, sse_ho[e] / std::max(1.0, dof_ho - (pe_ho - pe)));
     r.holdout_delta_chi2 = (sse0_ho - sse_ho[e]) / s2_ho;
-    r.holdout_threshold = chi2_isf(o.alpha / ne, pe);
+    r.holdout_threshold = chi2_isf(o.alpha / ne, pe_ho);
     std::vector<double> dg;
     for (const auto& [g, s0] : g0) {
       const double x = (s0 - ge[e][g]) / s2;
@@ -645,9 +713,125 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     if (ra.significant != rb.significant) return ra.significant;
     return ra.shrink > rb.shrink;
   });
-  const int best = order[0];
+  int best = order[0];
   if (res.effects[best].significant) res.verdict = res.effects[best].name;
   else res.verdict = res.holdout_chi2_ratio <= 1 + o.none_tolerance ? "none" : "unexplained";
+
+  // ------------------------------------------------------------ a second effect
+  // Given the verdict's effect, does another candidate still explain what is
+  // left? Every other candidate is refitted with the verdict's effect
+  // (strengths of both free, coefficients as in the verdict's fit) and tested
+  // against the verdict's fit alone by the same three tests (Holm over the
+  // rest). Effects that only absorb the same misfit drop out here; a second
+  // real effect stays.
+  if (o.second_effect && res.effects[best].significant && ne > 1) {
+    const auto t2 = Clock::now();
+    const Effect B = o.effects[best];
+    report("analysis", "second round: every other candidate added to " + effect_name(B), false);
+    const auto extra = shared_params_of(B);
+    std::vector<int> rest;
+    for (int e = 0; e < ne; ++e)
+      if (e != best) rest.push_back(e);
+    std::vector<FitOutcome> full2;
+    if (o.full_fit) {
+      full2 = fit_effects(eff_full[best], all_flights, "all gliders, with " + effect_name(B), false, rest, extra, true);
+      for (int e : rest)
+        if (full2[e].sse > eff_full[best].sse) full2[e] = eff_full[best];
+    }
+    std::vector<double> sse2_ho(ne, 0.0), dsse2_train(ne, 0.0), sse2_train(ne, 0.0);
+    double sseB_ho = 0, sseB_train = 0;
+    for (int k = 0; k < K; ++k) {
+      const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K) + ", with " + effect_name(B);
+      const FitOutcome& bt = fold_trs[k][best];
+      std::vector<FitOutcome> tr2 = fit_effects(bt, fold_train[k], label, false, rest, extra, true);
+      const FitOutcome& bh = fold_hos[k][best];
+      sseB_ho += bh.sse;
+      sseB_train += bt.sse;
+      const auto ho_trims = trims_of(D, fold_test[k], o.trim);
+      for (int e : rest) {
+        if (tr2[e].sse > bt.sse) tr2[e] = bt;
+        dsse2_train[e] += bt.sse - tr2[e].sse;
+        sse2_train[e] += tr2[e].sse;
+        sse2_ho[e] += ho_fit_on(tr2[e], bh, fold_test[k], ho_trims).sse;
+      }
+    }
+    const EffectResult& rb = res.effects[best];
+    const double sseB_fit = o.full_fit ? eff_full[best].sse : sseB_train / std::max(1, K - 1);
+    for (int e : rest) {
+      EffectResult& r = res.effects[e];
+      EffectResult::Given& g = r.given_verdict;
+      const Effect E = o.effects[e];
+      g.tested = true;
+      const double dsse = o.full_fit ? eff_full[best].sse - full2[e].sse : dsse2_train[e] / std::max(1, K - 1);
+      const double sse_e = sseB_fit - dsse;
+      const double s2_eff =
+          std::max(s2, sse_e / std::max(1.0, dof_fit - dof_fit_of(B) - dof_fit_of(E)));
+      g.delta_chi2 = std::max(0.0, dsse) / s2_eff;
+      g.p_value = chi2_sf(g.delta_chi2, dof_fit_of(E));
+      if (o.full_fit) g.parameters = effect_values(full2[e].model.effects, E);
+      g.holdout_rmse_m = std::sqrt(sse2_ho[e] / n_ho);
+      g.shrink = 1 - g.holdout_rmse_m / rb.holdout_rmse_m;
+      const double s2_ho = std::max(s2, sse2_ho[e] / std::max(1.0, dof_ho - dof_ho_of(B) - dof_ho_of(E)));
+      g.holdout_delta_chi2 = (sseB_ho - sse2_ho[e]) / s2_ho;
+      g.holdout_threshold = chi2_isf(o.alpha / static_cast<double>(rest.size()), dof_ho_of(E));
+    }
+    {
+      std::vector<int> by_p = rest;
+      std::sort(by_p.begin(), by_p.end(), [&](int a, int b) {
+        return res.effects[a].given_verdict.p_value < res.effects[b].given_verdict.p_value;
+      });
+      bool stop = false;
+      for (std::size_t i = 0; i < by_p.size(); ++i) {
+        auto& g = res.effects[by_p[i]].given_verdict;
+        g.holm_level = o.alpha / static_cast<double>(by_p.size() - i);
+        if (!stop && g.p_value <= g.holm_level) g.lr_pass = true;
+        else stop = true;
+      }
+    }
+    std::vector<int> also;
+    for (int e : rest) {
+      auto& g = res.effects[e].given_verdict;
+      g.significant = g.lr_pass && g.shrink >= o.min_shrink &&
+                      (!o.holdout_chi2_test || g.holdout_delta_chi2 > g.holdout_threshold);
+      if (g.significant) also.push_back(e);
+    }
+    std::sort(also.begin(), also.end(),
+              [&](int a, int b) { return res.effects[a].given_verdict.shrink > res.effects[b].given_verdict.shrink; });
+    // The reverse test for each effect of `also`: is the verdict's effect
+    // still needed once that one is in the model (joint fit against that
+    // effect's own first-round fit)? The best effect that makes it
+    // superfluous, and is significant on its own, becomes the verdict.
+    int replacement = -1;
+    for (int e : also) {
+      EffectResult& r = res.effects[e];
+      auto& g = r.given_verdict;
+      const Effect E = o.effects[e];
+      const double sseE_fit = o.full_fit ? eff_full[e].sse : sse0_fit - train_dsse[e] / std::max(1, K - 1);
+      const double dsse = o.full_fit ? eff_full[e].sse - full2[e].sse : dsse2_train[e] / std::max(1, K - 1) +
+                                                                            train_dsse[best] / std::max(1, K - 1) -
+                                                                            train_dsse[e] / std::max(1, K - 1);
+      const double sse_j = sseE_fit - dsse;
+      const double s2_eff = std::max(s2, sse_j / std::max(1.0, dof_fit - dof_fit_of(B) - dof_fit_of(E)));
+      g.reverse_delta_chi2 = std::max(0.0, dsse) / s2_eff;
+      g.reverse_p_value = chi2_sf(g.reverse_delta_chi2, dof_fit_of(B));
+      g.reverse_shrink = 1 - g.holdout_rmse_m / r.holdout_rmse_m;
+      const double s2_ho = std::max(s2, sse2_ho[e] / std::max(1.0, dof_ho - dof_ho_of(B) - dof_ho_of(E)));
+      g.reverse_holdout_delta_chi2 = (sse_ho[e] - sse2_ho[e]) / s2_ho;
+      g.reverse_threshold = chi2_isf(o.alpha / static_cast<double>(rest.size()), dof_ho_of(B));
+      g.verdict_still_needed = g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()) &&
+                               g.reverse_shrink >= o.min_shrink &&
+                               (!o.holdout_chi2_test || g.reverse_holdout_delta_chi2 > g.reverse_threshold);
+      if (replacement < 0 && !g.verdict_still_needed && r.significant) replacement = e;
+    }
+    if (replacement >= 0) {
+      res.replaced = res.effects[best].name;
+      best = replacement;
+      res.verdict = res.effects[best].name;
+    } else {
+      for (int e : also) res.also.push_back(res.effects[e].name);
+    }
+    timings["second_round_s"] = since(t2);
+  }
 
   for (auto& r : res.effects) {
     std::string n;
@@ -749,14 +933,33 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         << pct(b.shrink) << ", from " << cm(res.holdout_rmse_m) << " to " << cm(b.holdout_rmse_m)
         << " (tracking noise alone: " << cm(res.noise_rmse_m) << "); fitted "
         << describe_parameters(b.effect, b.parameters) << ".";
+      if (!res.replaced.empty())
+        s << " " << res.replaced << " predicted the held-out gliders better on its own, but adds nothing once "
+          << b.name << " is in the model, while " << b.name << " still does with " << res.replaced
+          << ": it only imitated " << b.name << ".";
       int others = 0;
       for (int i = 1; i < ne; ++i) others += res.effects[order[i]].significant ? 1 : 0;
       if (others > 0) {
-        s << " Also significant:";
+        s << " Also significant on their own:";
         for (int i = 1; i < ne; ++i)
           if (res.effects[order[i]].significant)
             s << " " << res.effects[order[i]].name << " (" << pct(res.effects[order[i]].shrink) << ")";
         s << ".";
+      }
+      if (!res.also.empty()) {
+        s << " With " << b.name << " in the model, ";
+        for (std::size_t i = 0; i < res.also.size(); ++i) {
+          const auto& x = res.effects[std::find_if(res.effects.begin(), res.effects.end(), [&](const EffectResult& y) {
+                                        return y.name == res.also[i];
+                                      }) - res.effects.begin()];
+          s << (i ? (i + 1 == res.also.size() ? " and " : ", ") : "") << x.name << " ("
+            << pct(x.given_verdict.shrink) << " further)";
+        }
+        s << (res.also.size() > 1 ? " also explain" : " also explains")
+          << " what is left: the flights probably carry more than one effect.";
+      } else if (o.second_effect && others > 0) {
+        s << " With " << b.name << " in the model none of them improves the prediction further: they explain the "
+                                   "same misfit.";
       }
       if (!b.confusable.empty()) {
         s << " Its signature resembles";
@@ -833,8 +1036,25 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                             {"confusable_with", conf},
                             {"description", effect_spec(e.effect).description},
                             {"note", e.note}});
+    if (e.given_verdict.tested) {
+      const auto& g = e.given_verdict;
+      json gp;
+      for (std::size_t i = 0; i < sp.parameters.size() && i < g.parameters.size(); ++i)
+        gp[sp.parameters[i].name] = g.parameters[i] * sp.parameters[i].to_report;
+      j["effects"].back()["given_verdict"] = {
+          {"holdout_rmse_m", g.holdout_rmse_m}, {"shrink", g.shrink}, {"significant", g.significant},
+          {"parameters", gp},
+          {"likelihood_ratio", {{"delta_chi2", g.delta_chi2}, {"p_value", g.p_value}, {"holm_level", g.holm_level},
+                                {"pass", g.lr_pass}}},
+          {"cross_validation", {{"delta_chi2", g.holdout_delta_chi2}, {"threshold", g.holdout_threshold}}},
+          {"reverse", {{"shrink", g.reverse_shrink}, {"delta_chi2", g.reverse_delta_chi2},
+                       {"p_value", g.reverse_p_value}, {"holdout_delta_chi2", g.reverse_holdout_delta_chi2},
+                       {"threshold", g.reverse_threshold}, {"verdict_still_needed", g.verdict_still_needed}}}};
+    }
   }
   j["verdict"] = r.verdict;
+  j["also"] = r.also;
+  if (!r.replaced.empty()) j["replaced"] = r.replaced;
   j["summary"] = r.summary;
   j["where"] = r.where;
   j["report"] = r.report;
@@ -862,7 +1082,9 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"dt_s", o.sim.dt},
                   {"max_centres", o.fit.max_centres},
                   {"full_fit", o.full_fit},
-                  {"polish", o.polish}};
+                  {"polish", o.polish},
+                  {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
+                  {"second_effect", o.second_effect}};
   j["timings"] = r.timings;
   return j;
 }

@@ -50,7 +50,10 @@ void parallel_for(int n, int threads, F&& f) {
 
 constexpr double kCoefScale[3] = {0.02, 0.1, 0.02};  // cd, cl, cm (as fit.cpp)
 constexpr double kHeightOffset = 1000.0;              // flights are simulated this high (no ground cut)
-constexpr int kLaunchParams = 5;                      // x, y, speed, climb, pitch
+constexpr int kLaunchParams = 5;                      // x, y, speed, climb, pitch (+ pitch rate per flight)
+
+/// Fitted values of one launch: 5, or 6 when launch_rotation is a launch parameter.
+int launch_count(const EffectValues& ev) { return ev.launch_rotation_per_flight ? kLaunchParams + 1 : kLaunchParams; }
 
 double* launch_value(LaunchParams& p, int k) {
   switch (k) {
@@ -58,7 +61,8 @@ double* launch_value(LaunchParams& p, int k) {
     case 1: return &p.y;
     case 2: return &p.speed;
     case 3: return &p.climb;
-    default: return &p.pitch;
+    case 4: return &p.pitch;
+    default: return &p.pitch_rate;
   }
 }
 
@@ -166,7 +170,7 @@ struct FitContext {
     std::vector<double> times;
     times.reserve(f.points.size());
     for (const auto& q : f.points) times.push_back(q.t);
-    L.pitch_rate = s.ev.launch_rotation;
+    if (!s.ev.launch_rotation_per_flight) L.pitch_rate = s.ev.launch_rotation;
     Track tr = simulate_track(*s.ea[g], D.gliders()[g].body, L, times, s.topt);
     ++sims;
     r.resize(2 * f.points.size());
@@ -188,11 +192,12 @@ struct FitContext {
     const double s2 = D.dataset().tracking_sigma_m * D.dataset().tracking_sigma_m;
     double lambda = 1e-4;
     Eigen::VectorXd r1;
+    const int nl = launch_count(s.ev);
     for (int it = 0; it < iterations; ++it) {
       ++refine_iterations;
       const int m = static_cast<int>(r.size());
-      Eigen::MatrixXd J(m, kLaunchParams);
-      for (int k = 0; k < kLaunchParams; ++k) {
+      Eigen::MatrixXd J(m, nl);
+      for (int k = 0; k < nl; ++k) {
         LaunchParams p = L;
         double* v = launch_value(p, k);
         const double h = 1e-6 * std::max(1.0, std::abs(*v));
@@ -205,11 +210,11 @@ struct FitContext {
       bool better = false;
       for (int t = 0; t < 4 && !better; ++t) {
         Eigen::MatrixXd A = H;
-        for (int k = 0; k < kLaunchParams; ++k) A(k, k) += lambda * H(k, k) + 1e-15;
+        for (int k = 0; k < nl; ++k) A(k, k) += lambda * H(k, k) + 1e-15;
         const Eigen::VectorXd d = -A.ldlt().solve(g);
         if (!d.allFinite()) break;
         LaunchParams p = L;
-        for (int k = 0; k < kLaunchParams; ++k) *launch_value(p, k) += d(k);
+        for (int k = 0; k < nl; ++k) *launch_value(p, k) += d(k);
         p.speed = std::max(p.speed, 0.05);
         residuals(s, fi, p, r1);
         if (r1.squaredNorm() < r.squaredNorm()) {
@@ -234,7 +239,7 @@ struct FitContext {
     LaunchFitOptions lo;
     lo.points = 0;
     lo.fit_pitch = true;
-    lo.fit_pitch_rate = false;
+    lo.fit_pitch_rate = s.ev.launch_rotation_per_flight;
     lo.robust_m = 0;
     lo.track = s.topt;
     lo.max_evaluations = 400;
@@ -249,7 +254,7 @@ struct FitContext {
       sims += lf.evaluations;
       if (lf.rmse_m < best.rmse_m) best = lf;
     }
-    best.launch.pitch_rate = s.ev.launch_rotation;
+    if (!s.ev.launch_rotation_per_flight) best.launch.pitch_rate = s.ev.launch_rotation;
     return best.launch;
   }
 
@@ -260,7 +265,7 @@ struct FitContext {
                      Eigen::VectorXd& r) const {
     const double s2 = D.dataset().tracking_sigma_m * D.dataset().tracking_sigma_m;
     if (warm) {
-      L.pitch_rate = s.ev.launch_rotation;
+      if (!s.ev.launch_rotation_per_flight) L.pitch_rate = s.ev.launch_rotation;
       refine_launch(s, fi, L, r, 10);
       const double expect = s2 * std::max(1.0, static_cast<double>(r.size()) - 5.0);
       if (fallback && r.squaredNorm() > 1.5 * expect && !(r.squaredNorm() <= 1.02 * previous_sse)) {
@@ -421,6 +426,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
   const double s2 = d_.tracking_sigma_m * d_.tracking_sigma_m;
   DiagModel model = start;
   if (model.trim.size() < gliders_.size()) model.trim.resize(gliders_.size(), 0.0);
+  const int nl = launch_count(model.effects);
   bool coef = false;
   for (const auto& p : free) coef = coef || p.kind == FreeParam::Coefficient;
   std::vector<double> u;
@@ -481,9 +487,9 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
         const int g = flight_glider_[fi];
         const Eigen::VectorXd& r0 = R[f];
         const int m = static_cast<int>(r0.size());
-        Eigen::MatrixXd JL(m, kLaunchParams), JT = Eigen::MatrixXd::Zero(m, np);
+        Eigen::MatrixXd JL(m, nl), JT = Eigen::MatrixXd::Zero(m, np);
         Eigen::VectorXd r1;
-        for (int k = 0; k < kLaunchParams; ++k) {
+        for (int k = 0; k < nl; ++k) {
           LaunchParams p = L[f];
           double* v = launch_value(p, k);
           const double hh = 1e-6 * std::max(1.0, std::abs(*v));
@@ -499,10 +505,10 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
           JT.col(k) = (r1 - r0) / h[k] * unit;
         }
         const Eigen::HouseholderQR<Eigen::MatrixXd> qr(JL);
-        const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(m, kLaunchParams);
+        const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(m, nl);
         const Eigen::MatrixXd QtJ = Q.transpose() * JT;
         Jp[f] = JT - Q * QtJ;
-        const Eigen::MatrixXd Rm = qr.matrixQR().topRows(kLaunchParams).triangularView<Eigen::Upper>();
+        const Eigen::MatrixXd Rm = qr.matrixQR().topRows(nl).triangularView<Eigen::Upper>();
         G[f] = Rm.triangularView<Eigen::Upper>().solve(QtJ);
         if (!G[f].allFinite()) G[f].setZero();
       });
@@ -537,7 +543,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
         std::vector<LaunchParams> Lt = L;
         for (int f = 0; f < nf; ++f) {
           const Eigen::VectorXd dL = -G[f] * taken;
-          for (int k = 0; k < kLaunchParams; ++k) *launch_value(Lt[f], k) += dL(k);
+          for (int k = 0; k < nl; ++k) *launch_value(Lt[f], k) += dL(k);
           Lt[f].speed = std::max(Lt[f].speed, 0.05);
         }
         auto at = coef ? C.tables(C.coefficients_of(mt, ut)) : aero;
@@ -607,7 +613,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
     out.sse += fo.sse;
     out.points += static_cast<int>(fo.residual.size());
   }
-  out.launch_parameters = kLaunchParams * nf;
+  out.launch_parameters = nl * nf;
   out.free_parameters = np;
   out.iterations = iterations;
   out.simulations = C.sims;
@@ -621,6 +627,7 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
   const int nf = static_cast<int>(flights.size());
   const int np = static_cast<int>(free.size());
   const DiagModel& model = at.model;
+  const int nl = launch_count(model.effects);
   bool coef = false;
   for (const auto& p : free) coef = coef || p.kind == FreeParam::Coefficient;
   std::vector<double> u;
@@ -657,8 +664,8 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
     Eigen::VectorXd r0, r1;
     C.residuals(*S, fi, at.flights[f].launch, r0);
     const int m = static_cast<int>(r0.size());
-    Eigen::MatrixXd JL(m, kLaunchParams), JT = Eigen::MatrixXd::Zero(m, np);
-    for (int k = 0; k < kLaunchParams; ++k) {
+    Eigen::MatrixXd JL(m, nl), JT = Eigen::MatrixXd::Zero(m, np);
+    for (int k = 0; k < nl; ++k) {
       LaunchParams p = at.flights[f].launch;
       double* v = launch_value(p, k);
       const double hh = 1e-6 * std::max(1.0, std::abs(*v));
@@ -672,7 +679,7 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
       JT.col(k) = (r1 - r0) / h[k] * unit[k];
     }
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(JL);
-    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(m, kLaunchParams);
+    const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(m, nl);
     J.middleRows(offset[f], m) = JT - Q * (Q.transpose() * JT);
   });
   return J;

@@ -34,7 +34,7 @@ std::vector<EffectSpec> make_specs() {
        EffectLevel::Aerodynamic, {k(10)}},
       {Effect::GroundEffect, "ground_effect", "the induced angle falls near the ground (McCormick's factor)",
        EffectLevel::Aerodynamic, {k(3)}},
-      {Effect::LaunchRotation, "launch_rotation", "a common pitch rate at the first tracked point of every flight",
+      {Effect::LaunchRotation, "launch_rotation", "a pitch rate at the first tracked point: each flight's own (a launch value) or one for all",
        EffectLevel::Launch, {{"pitch_rate_deg_s", "rad/s", 1.0, -20.0, 20.0, kRadToDeg, {-1.0, 1.0}}}},
       {Effect::AddedMass, "added_mass", "apparent mass and rotary inertia of the plates moving normal to themselves",
        EffectLevel::Aerodynamic, {k(3)}},
@@ -149,7 +149,7 @@ bool EffectValues::aerodynamic_zero() const {
 }
 
 bool EffectValues::zero() const {
-  return aerodynamic_zero() && launch_rotation == 0 && wind == 0 && camera_scale == 0 && camera_roll == 0;
+  return aerodynamic_zero() && launch_rotation == 0 && !launch_rotation_per_flight && wind == 0 && camera_scale == 0 && camera_roll == 0;
 }
 
 // --------------------------------------------------------------- geometry

@@ -86,6 +86,17 @@ struct DiagnoseOptions {
   /// shows no gain and would not be chosen); the centre values are pulled
   /// toward the baseline's (DiagFitOptions::coefficient_regularisation_m).
   int polish = 0;
+  /// launch_rotation as a launch parameter: every flight's pitch rate at its
+  /// first tracked point is fitted (one more launch value per flight, on
+  /// training and held-out gliders; its tests count one degree of freedom per
+  /// flight), since a thrower gives each flight its own rate. false: one rate
+  /// shared by every flight of the session (a single strength).
+  bool launch_rotation_per_flight = true;
+  /// Second round: when an effect is the verdict, every other candidate is
+  /// refitted together with it and tested against it (DiagnoseResult::also):
+  /// a second real effect stays significant, one that only absorbed the same
+  /// misfit does not. Fixed coefficients (the verdict's fit), so it is cheap.
+  bool second_effect = true;
   int threads = 0;                ///< 0 = all cores
 };
 
@@ -122,6 +133,24 @@ struct EffectResult {
   bool indistinguishable = false;
   std::vector<std::pair<std::string, double>> confusable;  ///< other effects with |cos| > 0.8 of signatures
   std::string note;                ///< plain words
+  /// Second round: this effect added to the verdict's effect, tested against
+  /// the verdict's fit (shrink relative to the verdict's held-out RMSE).
+  struct Given {
+    bool tested = false;
+    double holdout_rmse_m = 0, shrink = 0;
+    double delta_chi2 = 0, p_value = 1, holm_level = 0;
+    bool lr_pass = false;
+    double holdout_delta_chi2 = 0, holdout_threshold = 0;
+    bool significant = false;
+    std::vector<double> parameters;  ///< this effect's, fitted with the verdict's on all gliders
+    /// The reverse test: the verdict's effect added to this one alone (shrink
+    /// relative to this effect's held-out RMSE). When this effect is
+    /// significant given the verdict's but the verdict's is not given this
+    /// one, this one explains the gap and becomes the verdict.
+    double reverse_shrink = 0, reverse_delta_chi2 = 0, reverse_p_value = 1;
+    double reverse_holdout_delta_chi2 = 0, reverse_threshold = 0;
+    bool verdict_still_needed = true;
+  } given_verdict;
 };
 
 /// Per-flight outcome of the cross-validation (the flight's glider held out).
@@ -143,6 +172,11 @@ struct DiagnoseResult {
   double noise_rmse_m = 0;       ///< held-out RMSE expected from tracking noise alone [m]
   std::vector<EffectResult> effects;  ///< sorted best first: by held-out RMSE
   std::string verdict;           ///< effect name, "none" or "unexplained"
+  /// Effects significant in the second round, given the verdict's (best first).
+  std::vector<std::string> also;
+  /// The first round's verdict when the second round replaced it (it added
+  /// nothing once `verdict` was in the model); empty otherwise.
+  std::string replaced;
   std::string summary;           ///< plain-language summary
   nlohmann::json where;          ///< where the gap lies (phases, gliders, features, states, whiteness)
   nlohmann::json report;         ///< data of the report's plots (worst flights before/after, per glider)

@@ -112,6 +112,11 @@ struct EffectValues {
   double wind = 0;             ///< w_x, world x wind [m/s] (negative: headwind)
   double camera_scale = 0;     ///< kappa: recorded = (1 + kappa) R(phi) true [-]
   double camera_roll = 0;      ///< phi, counter-clockwise [rad]
+  /// launch_rotation as a launch parameter: every flight's pitch rate at its
+  /// first tracked point is fitted with the rest of its launch (a thrower
+  /// gives each flight its own rate); launch_rotation is then their mean, for
+  /// reporting and as the start of a fresh launch fit.
+  bool launch_rotation_per_flight = false;
 
   /// Parameter i of effect e (spec order of effect_spec(e).parameters).
   double& at(Effect e, int i);
