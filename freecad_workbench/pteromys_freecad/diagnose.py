@@ -70,6 +70,8 @@ def run_diagnosis(dataset, report_dir=None, progress=None, **options):
 def summary_text(result):
     """A few lines for a message box: verdict, summary and the best effects."""
     lines = ["Verdict: %s" % result["verdict"], "", result.get("summary", ""), ""]
+    if result.get("also"):
+        lines[1:1] = ["Also present: %s" % ", ".join(result["also"])]
     for e in result["effects"][:3]:
         lines.append("%s: held-out %.1f cm, shrink %.0f %%%s" % (
             e["name"], 100 * e["holdout_rmse_m"], 100 * e["shrink"], ", significant" if e["significant"] else ""))

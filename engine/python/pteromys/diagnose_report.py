@@ -153,8 +153,10 @@ def _tables(r):
     eff_rows = []
     for e in r.get("effects", []):
         par = ", ".join("%s %.3g" % (k, v) for k, v in e.get("parameters", {}).items())
+        g = e.get("given_verdict")
+        given = ("%s further%s" % (_pct(g["shrink"]), ", significant" if g["significant"] else "")) if g else ""
         eff_rows.append([e["name"], _cm(e["holdout_rmse_m"]), _pct(e["shrink"]), "yes" if e["significant"] else "no",
-                         par, "%.2g" % e.get("likelihood_ratio", {}).get("p_value", float("nan")),
+                         given, par, "%.2g" % e.get("likelihood_ratio", {}).get("p_value", float("nan")),
                          "%.0f %%" % (100 * e.get("coefficient_collinearity", 0.0)), e.get("note", "")])
     phase_rows = []
     for p in r.get("where", {}).get("phases", []):
@@ -181,7 +183,7 @@ def _html_table(head, rows):
     return s + "</table>\n"
 
 
-_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant", "fitted strength", "p (LR)",
+_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant", "added to the verdict's", "fitted strength", "p (LR)",
              "collinear with coefficients", "note"]
 _PHASE_HEAD = ["phase", "points", "baseline RMSE", "after", "chi2 ratio", "share of excess"]
 _FEAT_HEAD = ["geometry feature", "Spearman rho (vs glider error)", "p"]
@@ -207,8 +209,12 @@ def render(r, out, quiet=True):
         "phases": "Residuals by flight phase", "gliders": "Residuals by glider", "effects": "Ranked effects",
         "error_vs_time": "Error along the flights", "worst_flights": "Worst flights before and after"}
 
+    also = ("Also present (significant when added to the verdict's effect): %s." % ", ".join(r["also"])
+            if r.get("also") else "")
     md = "# Sim-to-real gap diagnosis\n\n%s\n\n**Verdict: %s**\n\n%s\n\n%s\n\n" % (
         head, r["verdict"], r.get("summary", ""), base)
+    if also:
+        md += also + "\n\n"
     md += "## Which effect\n\n" + _md_table(_EFF_HEAD, eff_rows) + "\n"
     if "effects" in files:
         md += "![effects](effects.png)\n\n"
@@ -228,6 +234,7 @@ def render(r, out, quiet=True):
          ".verdict{font-size:130%;font-weight:bold;}</style></head><body>",
          "<h1>Sim-to-real gap diagnosis</h1>", "<p>%s</p>" % html.escape(head),
          "<p class='verdict'>Verdict: %s</p>" % html.escape(r["verdict"]),
+         "<p>%s</p>" % html.escape(also) if also else "",
          "<p>%s</p>" % html.escape(r.get("summary", "")), "<p>%s</p>" % html.escape(base),
          "<h2>Which effect</h2>", _html_table(_EFF_HEAD, eff_rows)]
     if "effects" in files:
