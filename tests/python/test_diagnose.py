@@ -179,6 +179,7 @@ def test_null_data_give_no_discovery(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--effects", "vortex_shedding"], "unknown effect"),
     (["diagnose", "DS", "--json", "OUT", "--folds", "1"], "--folds"),
     (["diagnose", "DS", "--json", "/nonexistent/dir/out.json"], "out.json"),
+    (["diagnose", "DS", "--json", "OUT", "--launch-rotation", "sometimes"], "--launch-rotation"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None
