@@ -100,6 +100,12 @@ def one(case, args, gl_dir):
     with open(res) as f:
         r = json.load(f)
     r.setdefault("timings", {})["wall_s"] = time.time() - t
+    commit = os.path.join(args.build, "COMMIT")  # a frozen copy of the binary says which commit it was built from
+    if os.path.isfile(commit):
+        r["bench_commit"] = open(commit).read().strip()
+    else:
+        g = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+        r["bench_commit"] = g.stdout.strip()
     with open(res, "w") as f:
         json.dump(r, f, indent=1)
     return case, r
