@@ -30,6 +30,11 @@ def main():
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "diag-speed"))
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--noise-m", type=float, default=None,
+                    help="tracking noise of the generated dataset [m] (default: generate's, 5 cm)")
+    ap.add_argument("--effects", default="physics",
+                    help="effects of the generated dataset (default physics: the six aerodynamic ones); with one "
+                         "the diagnosis finds (e.g. wind), the second round runs too, the slowest case")
     ap.add_argument("--polish", type=int, default=0, help="passed to diagnose (default 0, its default)")
     ap.add_argument("--no-report", action="store_true", help="time the diagnosis without the HTML report")
     args = ap.parse_args()
@@ -41,7 +46,8 @@ def main():
     gliders = sorted(glob.glob(os.path.join(ROOT, "examples", "training", "*.glider.json")))
     if not os.path.isfile(os.path.join(data, "dataset.json")):
         t = time.time()
-        subprocess.run([pt, "generate"] + gliders + ["-o", data, "--effects", "physics", "--seed", str(args.seed),
+        subprocess.run([pt, "generate"] + gliders + ["-o", data, "--effects", args.effects, "--seed", str(args.seed)] +
+                       (["--noise-m", str(args.noise_m)] if args.noise_m is not None else []) + [
                                                       "--quiet"], check=True)
         print("dataset generated in %.1f s" % (time.time() - t))
     with open(os.path.join(data, "dataset.json")) as f:

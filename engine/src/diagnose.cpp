@@ -801,8 +801,15 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // still needed once that one is in the model (joint fit against that
     // effect's own first-round fit)? The best effect that makes it
     // superfluous, and is significant on its own, becomes the verdict.
+    // The same reverse test for an effect that was significant on its own but
+    // adds nothing given the verdict's: if the verdict's adds nothing given
+    // it either, the two explain the same misfit and the data cannot tell
+    // them apart (`alternatives`).
+    std::vector<int> reverse = also;
+    for (int e : rest)
+      if (res.effects[e].significant && !res.effects[e].given_verdict.significant) reverse.push_back(e);
     int replacement = -1;
-    for (int e : also) {
+    for (int e : reverse) {
       EffectResult& r = res.effects[e];
       auto& g = r.given_verdict;
       const Effect E = o.effects[e];
@@ -821,12 +828,15 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       g.verdict_still_needed = g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()) &&
                                g.reverse_shrink >= o.min_shrink &&
                                (!o.holdout_chi2_test || g.reverse_holdout_delta_chi2 > g.reverse_threshold);
-      if (replacement < 0 && !g.verdict_still_needed && r.significant) replacement = e;
+      g.reverse_tested = true;
+      if (g.significant && replacement < 0 && !g.verdict_still_needed && r.significant) replacement = e;
+      if (!g.significant && !g.verdict_still_needed) res.alternatives.push_back(r.name);
     }
     if (replacement >= 0) {
       res.replaced = res.effects[best].name;
       best = replacement;
       res.verdict = res.effects[best].name;
+      res.alternatives.clear();  // tested against the replaced verdict, not this one
     } else {
       for (int e : also) res.also.push_back(res.effects[e].name);
     }
@@ -933,6 +943,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         << pct(b.shrink) << ", from " << cm(res.holdout_rmse_m) << " to " << cm(b.holdout_rmse_m)
         << " (tracking noise alone: " << cm(res.noise_rmse_m) << "); fitted "
         << describe_parameters(b.effect, b.parameters) << ".";
+      for (const auto& a : res.alternatives) {
+        const auto& x = *std::find_if(res.effects.begin(), res.effects.end(),
+                                      [&](const EffectResult& y) { return y.name == a; });
+        s << " " << a << " explains the same misfit nearly as well (" << pct(x.shrink)
+          << " on its own); with either in the model the other adds nothing, so these data cannot tell "
+          << b.name << " and " << a << " apart.";
+      }
       if (!res.replaced.empty())
         s << " " << res.replaced << " predicted the held-out gliders better on its own, but adds nothing once "
           << b.name << " is in the model, while " << b.name << " still does with " << res.replaced
@@ -1047,7 +1064,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
           {"likelihood_ratio", {{"delta_chi2", g.delta_chi2}, {"p_value", g.p_value}, {"holm_level", g.holm_level},
                                 {"pass", g.lr_pass}}},
           {"cross_validation", {{"delta_chi2", g.holdout_delta_chi2}, {"threshold", g.holdout_threshold}}},
-          {"reverse", {{"shrink", g.reverse_shrink}, {"delta_chi2", g.reverse_delta_chi2},
+          {"reverse", {{"tested", g.reverse_tested}, {"shrink", g.reverse_shrink}, {"delta_chi2", g.reverse_delta_chi2},
                        {"p_value", g.reverse_p_value}, {"holdout_delta_chi2", g.reverse_holdout_delta_chi2},
                        {"threshold", g.reverse_threshold}, {"verdict_still_needed", g.verdict_still_needed}}}};
     }
@@ -1055,6 +1072,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   j["verdict"] = r.verdict;
   j["also"] = r.also;
   if (!r.replaced.empty()) j["replaced"] = r.replaced;
+  j["alternatives"] = r.alternatives;
   j["summary"] = r.summary;
   j["where"] = r.where;
   j["report"] = r.report;

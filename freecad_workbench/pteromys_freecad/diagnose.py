@@ -72,6 +72,8 @@ def summary_text(result):
     lines = ["Verdict: %s" % result["verdict"], "", result.get("summary", ""), ""]
     if result.get("also"):
         lines[1:1] = ["Also present: %s" % ", ".join(result["also"])]
+    if result.get("alternatives"):
+        lines[1:1] = ["Cannot be told apart from it: %s" % ", ".join(result["alternatives"])]
     for e in result["effects"][:3]:
         lines.append("%s: held-out %.1f cm, shrink %.0f %%%s" % (
             e["name"], 100 * e["holdout_rmse_m"], 100 * e["shrink"], ", significant" if e["significant"] else ""))

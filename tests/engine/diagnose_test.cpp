@@ -303,6 +303,7 @@ TEST(Diagnose, SecondRoundFindsTheSecondEffectAndOnlyIt) {
     if (e.effect == Effect::FuselageDrag) EXPECT_FALSE(e.given_verdict.significant);
   }
   EXPECT_TRUE(r.replaced.empty());
+  EXPECT_TRUE(r.alternatives.empty());  // each adds to the other: both are told apart
   const nlohmann::json j = diagnosis_json(r, o);
   EXPECT_EQ(j.at("also"), nlohmann::json::array({other}));
 }

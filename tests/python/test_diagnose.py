@@ -83,7 +83,8 @@ def test_verdict_agrees_with_the_significance_decisions(camera_case):
         assert j["verdict"] == sig[0]
     else:
         assert sig == [] and j["also"] == []
-    assert all(a in LIBRARY and a != j["verdict"] for a in j["also"])
+    assert all(a in LIBRARY and a != j["verdict"] for a in j["also"] + j["alternatives"])
+    assert not set(j["also"]) & set(j["alternatives"])
 
 
 def test_no_candidate_explains_the_flights_worse_than_the_baseline_it_contains(camera_case):

@@ -150,6 +150,7 @@ struct EffectResult {
     double reverse_shrink = 0, reverse_delta_chi2 = 0, reverse_p_value = 1;
     double reverse_holdout_delta_chi2 = 0, reverse_threshold = 0;
     bool verdict_still_needed = true;
+    bool reverse_tested = false;  ///< done for effects of `also` and those significant on their own
   } given_verdict;
 };
 
@@ -177,6 +178,10 @@ struct DiagnoseResult {
   /// The first round's verdict when the second round replaced it (it added
   /// nothing once `verdict` was in the model); empty otherwise.
   std::string replaced;
+  /// Effects significant on their own that add nothing given the verdict's
+  /// while the verdict's adds nothing given them: the same misfit, and these
+  /// data cannot tell them from the verdict.
+  std::vector<std::string> alternatives;
   std::string summary;           ///< plain-language summary
   nlohmann::json where;          ///< where the gap lies (phases, gliders, features, states, whiteness)
   nlohmann::json report;         ///< data of the report's plots (worst flights before/after, per glider)

@@ -211,6 +211,9 @@ def render(r, out, quiet=True):
 
     also = ("Also present (significant when added to the verdict's effect): %s." % ", ".join(r["also"])
             if r.get("also") else "")
+    if r.get("alternatives"):
+        also += (" " if also else "") + ("Cannot be told apart from the verdict with these data (the same misfit): "
+                                         "%s." % ", ".join(r["alternatives"]))
     md = "# Sim-to-real gap diagnosis\n\n%s\n\n**Verdict: %s**\n\n%s\n\n%s\n\n" % (
         head, r["verdict"], r.get("summary", ""), base)
     if also:
