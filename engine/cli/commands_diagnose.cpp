@@ -152,12 +152,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("--launch-window and --near-ground must not be negative");
   o.worst_flights = whole(a, "--worst-flights", o.worst_flights, 0, 1000);
   o.polish = whole(a, "--polish", o.polish, 0, 100);
-  if (a.has("--launch-rotation")) {
-    const std::string lr = a.get("--launch-rotation");
-    if (lr != "per-flight" && lr != "common")
-      throw InputError("--launch-rotation must be 'per-flight' or 'common', not '" + lr + "'");
-    o.launch_rotation_per_flight = lr == "per-flight";
-  }
+  if (a.has("--launch-rotation"))
+    o.launch_rotation_per_flight = launch_rotation_per_flight_from(a.get("--launch-rotation"), "--launch-rotation");
   if (a.has("--model")) {
     const auto m = load_model(a.get("--model"));
     if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;

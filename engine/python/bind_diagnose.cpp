@@ -94,12 +94,9 @@ DiagnoseOptions options_from(const py::dict& kw) {
   o.collinearity_limit = num("collinearity_limit", o.collinearity_limit);
   o.fit.max_centres = whole("max_centres", o.fit.max_centres, 1, 200);
   o.polish = whole("polish", o.polish, 0, 100);
-  if (kw.contains("launch_rotation")) {
-    const std::string lr = kw["launch_rotation"].cast<std::string>();
-    if (lr != "per-flight" && lr != "common")
-      throw InputError("launch_rotation must be 'per-flight' or 'common', not '" + lr + "'");
-    o.launch_rotation_per_flight = lr == "per-flight";
-  }
+  if (kw.contains("launch_rotation"))
+    o.launch_rotation_per_flight =
+        launch_rotation_per_flight_from(kw["launch_rotation"].cast<std::string>(), "launch_rotation");
   o.threads = whole("threads", 0, 0, 256);
   o.sim.ground_y = num("ground_y", 0.0);
   o.sim.dt = num("dt", o.sim.dt);

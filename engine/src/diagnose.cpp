@@ -155,12 +155,35 @@ std::string describe_parameters(Effect e, const std::vector<double>& v) {
   return s;
 }
 
+/// Holm's step-down at family-wise level alpha over the p-values p: the
+/// level each p-value was compared with, and whether it passed.
+void holm(const std::vector<double>& p, double alpha, std::vector<double>& level, std::vector<bool>& pass) {
+  const int n = static_cast<int>(p.size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return p[a] < p[b]; });
+  level.assign(n, 0.0);
+  pass.assign(n, false);
+  bool stop = false;
+  for (int i = 0; i < n; ++i) {
+    level[order[i]] = alpha / (n - i);
+    if (!stop && p[order[i]] <= level[order[i]]) pass[order[i]] = true;
+    else stop = true;
+  }
+}
+
 int centre_count(const std::shared_ptr<const CoefficientModel>& m) {
   auto r = std::dynamic_pointer_cast<const RbfModel>(m);
   return r ? static_cast<int>(r->centres().size()) : 0;
 }
 
 }  // namespace
+
+bool launch_rotation_per_flight_from(const std::string& value, const std::string& option) {
+  if (value != "per-flight" && value != "common")
+    throw InputError(option + " must be 'per-flight' or 'common', not '" + value + "'");
+  return value == "per-flight";
+}
 
 DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const DiagnoseCallback& progress) {
   const auto t0 = Clock::now();
@@ -301,11 +324,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         // Every flight's own rate, fitted with its launch from 0 (the
         // baseline) or from each trial rate.
         start.effects.launch_rotation_per_flight = true;
-        start_launches = with_rate(warm, 0.0);
         start_sse = std::numeric_limits<double>::infinity();
-        for (double v : sp.parameters[0].starts) {
+        std::vector<double> rates = sp.parameters[0].starts;
+        rates.push_back(0.0);
+        for (double v : rates) {
           DiagModel m = start;
-          m.effects.launch_rotation = v;
+          m.effects.launch_rotation = v;  // the start of a multi-started launch fit
           const auto w = with_rate(warm, v);
           const FitOutcome t = D.fit(m, flights, {}, &w);
           if (t.sse < start_sse) {
@@ -313,9 +337,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
             start_launches = launches_of(t);
           }
         }
-        const auto w0 = with_rate(warm, 0.0);
-        const FitOutcome t0 = D.fit(start, flights, {}, &w0);
-        if (t0.sse < start_sse) start_launches = launches_of(t0);
       } else {
         for (std::size_t i = 0; i < sp.parameters.size(); ++i)
           for (double v : sp.parameters[i].starts) {
@@ -631,22 +652,24 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     v = dg.size() > 1 ? v / (dg.size() - 1) : 0.0;
     r.glider_t = v > 0 ? m / std::sqrt(v / dg.size()) : 0.0;
   }
+  // The decision rule, the same in both rounds: the likelihood-ratio test
+  // passed (Holm), the held-out RMSE shrank by the margin, and the held-out
+  // improvement exceeds its chi-square quantile.
+  auto decided = [&](bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
+    return lr_pass && shrink >= o.min_shrink && (!o.holdout_chi2_test || holdout_delta_chi2 > threshold);
+  };
   // Holm's step-down over the library.
   {
-    std::vector<int> order(ne);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return res.effects[a].p_value < res.effects[b].p_value; });
-    bool stop = false;
-    for (int i = 0; i < ne; ++i) {
-      EffectResult& r = res.effects[order[i]];
-      r.holm_level = o.alpha / (ne - i);
-      if (!stop && r.p_value <= r.holm_level) r.lr_pass = true;
-      else stop = true;
+    std::vector<double> p, level;
+    std::vector<bool> pass;
+    for (const auto& r : res.effects) p.push_back(r.p_value);
+    holm(p, o.alpha, level, pass);
+    for (int e = 0; e < ne; ++e) {
+      res.effects[e].holm_level = level[e];
+      res.effects[e].lr_pass = pass[e];
     }
   }
-  for (auto& r : res.effects)
-    r.significant = r.lr_pass && r.shrink >= o.min_shrink &&
-                    (!o.holdout_chi2_test || r.holdout_delta_chi2 > r.holdout_threshold);
+  for (auto& r : res.effects) r.significant = decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold);
 
   // ------------------------------------------------------------ identifiability
   report("analysis", "identifiability: effects against re-tuned coefficients and trims");
@@ -738,7 +761,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       for (int e : rest)
         if (full2[e].sse > eff_full[best].sse) full2[e] = eff_full[best];
     }
-    std::vector<double> sse2_ho(ne, 0.0), dsse2_train(ne, 0.0), sse2_train(ne, 0.0);
+    std::vector<double> sse2_ho(ne, 0.0), dsse2_train(ne, 0.0);
     double sseB_ho = 0, sseB_train = 0;
     for (int k = 0; k < K; ++k) {
       const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K) + ", with " + effect_name(B);
@@ -751,7 +774,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       for (int e : rest) {
         if (tr2[e].sse > bt.sse) tr2[e] = bt;
         dsse2_train[e] += bt.sse - tr2[e].sse;
-        sse2_train[e] += tr2[e].sse;
         sse2_ho[e] += ho_fit_on(tr2[e], bh, fold_test[k], ho_trims).sse;
       }
     }
@@ -776,23 +798,19 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       g.holdout_threshold = chi2_isf(o.alpha / static_cast<double>(rest.size()), dof_ho_of(E));
     }
     {
-      std::vector<int> by_p = rest;
-      std::sort(by_p.begin(), by_p.end(), [&](int a, int b) {
-        return res.effects[a].given_verdict.p_value < res.effects[b].given_verdict.p_value;
-      });
-      bool stop = false;
-      for (std::size_t i = 0; i < by_p.size(); ++i) {
-        auto& g = res.effects[by_p[i]].given_verdict;
-        g.holm_level = o.alpha / static_cast<double>(by_p.size() - i);
-        if (!stop && g.p_value <= g.holm_level) g.lr_pass = true;
-        else stop = true;
+      std::vector<double> p, level;
+      std::vector<bool> pass;
+      for (int e : rest) p.push_back(res.effects[e].given_verdict.p_value);
+      holm(p, o.alpha, level, pass);
+      for (std::size_t i = 0; i < rest.size(); ++i) {
+        res.effects[rest[i]].given_verdict.holm_level = level[i];
+        res.effects[rest[i]].given_verdict.lr_pass = pass[i];
       }
     }
     std::vector<int> also;
     for (int e : rest) {
       auto& g = res.effects[e].given_verdict;
-      g.significant = g.lr_pass && g.shrink >= o.min_shrink &&
-                      (!o.holdout_chi2_test || g.holdout_delta_chi2 > g.holdout_threshold);
+      g.significant = decided(g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
       if (g.significant) also.push_back(e);
     }
     std::sort(also.begin(), also.end(),
@@ -825,9 +843,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       const double s2_ho = std::max(s2, sse2_ho[e] / std::max(1.0, dof_ho - dof_ho_of(B) - dof_ho_of(E)));
       g.reverse_holdout_delta_chi2 = (sse_ho[e] - sse2_ho[e]) / s2_ho;
       g.reverse_threshold = chi2_isf(o.alpha / static_cast<double>(rest.size()), dof_ho_of(B));
-      g.verdict_still_needed = g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()) &&
-                               g.reverse_shrink >= o.min_shrink &&
-                               (!o.holdout_chi2_test || g.reverse_holdout_delta_chi2 > g.reverse_threshold);
+      g.verdict_still_needed = decided(g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()),
+                                       g.reverse_shrink, g.reverse_holdout_delta_chi2, g.reverse_threshold);
       g.reverse_tested = true;
       if (g.significant && replacement < 0 && !g.verdict_still_needed && r.significant) replacement = e;
       if (!g.significant && !g.verdict_still_needed) res.alternatives.push_back(r.name);
@@ -943,9 +960,11 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         << pct(b.shrink) << ", from " << cm(res.holdout_rmse_m) << " to " << cm(b.holdout_rmse_m)
         << " (tracking noise alone: " << cm(res.noise_rmse_m) << "); fitted "
         << describe_parameters(b.effect, b.parameters) << ".";
+      auto named = [&](const std::string& n) -> const EffectResult& {
+        return *std::find_if(res.effects.begin(), res.effects.end(), [&](const EffectResult& y) { return y.name == n; });
+      };
       for (const auto& a : res.alternatives) {
-        const auto& x = *std::find_if(res.effects.begin(), res.effects.end(),
-                                      [&](const EffectResult& y) { return y.name == a; });
+        const auto& x = named(a);
         s << " " << a << " explains the same misfit nearly as well (" << pct(x.shrink)
           << " on its own); with either in the model the other adds nothing, so these data cannot tell "
           << b.name << " and " << a << " apart.";
@@ -966,9 +985,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       if (!res.also.empty()) {
         s << " With " << b.name << " in the model, ";
         for (std::size_t i = 0; i < res.also.size(); ++i) {
-          const auto& x = res.effects[std::find_if(res.effects.begin(), res.effects.end(), [&](const EffectResult& y) {
-                                        return y.name == res.also[i];
-                                      }) - res.effects.begin()];
+          const auto& x = named(res.also[i]);
           s << (i ? (i + 1 == res.also.size() ? " and " : ", ") : "") << x.name << " ("
             << pct(x.given_verdict.shrink) << " further)";
         }

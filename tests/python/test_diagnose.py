@@ -174,6 +174,13 @@ def test_null_data_give_no_discovery(tmp_path):
     assert msgs and msgs[-1]["stage"] == "done" and msgs[-1]["step"] == msgs[-1]["steps"]
 
 
+def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    with pytest.raises(Exception, match="launch_rotation must be 'per-flight' or 'common'"):
+        pteromys.diagnose(ds, folds=3, launch_rotation="sometimes")
+
+
 @pytest.mark.parametrize("args,words", [
     (["diagnose"], "missing DATASET"),
     (["diagnose", "/nonexistent/dataset.json", "--json", "OUT"], "dataset"),

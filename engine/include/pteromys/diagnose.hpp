@@ -193,6 +193,11 @@ struct DiagnoseResult {
   nlohmann::json timings;
 };
 
+/// DiagnoseOptions::launch_rotation_per_flight from its spelling in the
+/// command line and the Python call: "per-flight" (true) or "common"
+/// (false); anything else is an InputError naming `option`.
+bool launch_rotation_per_flight_from(const std::string& value, const std::string& option);
+
 /// Runs the diagnosis. Throws InputError for unusable input: an invalid
 /// dataset, flights of fewer than 3 gliders (leave-gliders-out needs
 /// training and held-out gliders), unknown or repeated candidates, bad options.
