@@ -25,7 +25,7 @@ std::vector<EffectSpec> make_specs() {
        "each wing sees the air velocity of the pitch rate at its 3/4-chord point", EffectLevel::Aerodynamic,
        {k(3)}},
       {Effect::Downwash, "downwash",
-       "each wing's horseshoe vortex lowers the angle of attack behind it (raises it ahead)",
+       "the other wings' strip-loaded wakes lower the angle of attack behind them (raise it ahead)",
        EffectLevel::Aerodynamic, {k(3)}},
       {Effect::FiniteSpan, "finite_span",
        "each wing's own induced angle C_L/(pi A e): lift-slope loss and induced drag of its aspect ratio",
@@ -103,6 +103,88 @@ Vec2 mean_point(const WingElements& el, double chord_fraction, const Mount& m, V
   return Vec2{m.x_m, m.y_m} + rotate({xm, 0.0}, deg2rad(m.angle_deg)) - cg;
 }
 
+/// The planform in spanwise bands: the element slices (pieces of one slice
+/// merged), consecutive slices grouped so that there are at most kWakeBands;
+/// per band its extent, area, mean chord and area-weighted 1/4- and
+/// 3/4-chord points (glider frame, - cg). Bands follow the slices so that a
+/// constant chord gives equal band circulations (no spurious trailing legs).
+std::vector<WingFeatures::Band> wake_bands(const WingElements& el, const Mount& m, Vec2 cg) {
+  struct Slice {
+    double z0, z1, a = 0, xq = 0, xt = 0;
+  };
+  std::vector<Slice> slices;
+  for (const auto& e : el.elements) {  // ordered by z, then by streamline rank
+    if (slices.empty() || std::abs(e.z0 - slices.back().z0) > 1e-12 || std::abs(e.z1 - slices.back().z1) > 1e-12)
+      slices.push_back({e.z0, e.z1});
+    Slice& sl = slices.back();
+    sl.a += e.area;
+    sl.xq += e.area * (e.x_le - 0.25 * e.chord);
+    sl.xt += e.area * (e.x_le - 0.75 * e.chord);
+  }
+  const std::size_t n = slices.size();
+  const std::size_t group = (n + kWakeBands - 1) / kWakeBands;
+  const double th = deg2rad(m.angle_deg);
+  std::vector<WingFeatures::Band> out;
+  for (std::size_t i = 0; i < n; i += group) {
+    Slice b{slices[i].z0, slices[i].z1};
+    for (std::size_t k = i; k < std::min(n, i + group); ++k) {
+      b.z1 = slices[k].z1;
+      b.a += slices[k].a;
+      b.xq += slices[k].xq;
+      b.xt += slices[k].xt;
+    }
+    if (!(b.a > 0) || !(b.z1 > b.z0)) continue;
+    WingFeatures::Band band;
+    band.z0 = b.z0;
+    band.z1 = b.z1;
+    band.area = b.a;
+    band.chord = b.a / (b.z1 - b.z0);
+    band.quarter = Vec2{m.x_m, m.y_m} + rotate({b.xq / b.a, 0.0}, th) - cg;
+    band.three_quarter = Vec2{m.x_m, m.y_m} + rotate({b.xt / b.a, 0.0}, th) - cg;
+    out.push_back(band);
+  }
+  return out;
+}
+
+/// GliderFeatures::wake_influence: per ordered pair of wings and wake angle,
+/// the area-weighted mean velocity that wing i's strip-loaded wake (a
+/// horseshoe of circulation c/2 per band) induces at wing j's 3/4-chord
+/// points. Vortex core: the larger of 5 % of the mean chord and half a band.
+std::vector<Vec2> wake_table(const std::vector<WingFeatures>& wings) {
+  const std::size_t n = wings.size();
+  constexpr int na = kWakeAngleMax - kWakeAngleMin + 1;
+  std::vector<Vec2> out(n * n * na, Vec2{0, 0});
+  if (n < 2) return out;
+  for (int k = 0; k < na; ++k) {
+    const double psi = deg2rad(static_cast<double>(kWakeAngleMin + k));
+    const V3 d{-std::cos(psi), std::sin(psi), 0.0};
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& wi = wings[i];
+      if (wi.bands.empty()) continue;
+      double widest = 0;
+      for (const auto& s : wi.bands) widest = std::max(widest, s.z1 - s.z0);
+      const double rc = std::max(0.05 * wi.mean_chord, 0.5 * widest);
+      for (std::size_t j = 0; j < n; ++j) {
+        const auto& wj = wings[j];
+        if (j == i || !(wj.area > 0)) continue;
+        Vec2 sum{0, 0};
+        for (const auto& t : wj.bands) {
+          const V3 P{t.three_quarter.x, t.three_quarter.y, 0.5 * (t.z0 + t.z1)};
+          Vec2 v{0, 0};
+          for (const auto& s : wi.bands) {
+            const V3 A{s.quarter.x, s.quarter.y, s.z0}, B{s.quarter.x, s.quarter.y, s.z1};
+            const V3 u = horseshoe_velocity(P, A, B, d, 0.5 * s.chord, rc);
+            v = v + Vec2{u[0], u[1]};
+          }
+          sum = sum + (t.area / wj.area) * v;
+        }
+        out[(i * n + j) * na + k] = sum;
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ names
@@ -178,6 +260,7 @@ GliderFeatures glider_features(const Glider& g, double dz, double gravity) {
       wf.apparent_mass += kPi / 4 * e.chord * e.chord * width;
       wf.apparent_inertia += kPi / 128 * std::pow(e.chord, 4) * width;
     }
+    wf.bands = wake_bands(el, w.mount, mp.cg);
     total_area += wf.area;
     f.span = std::max(f.span, wf.span);
     f.wings.push_back(wf);
@@ -217,7 +300,19 @@ GliderFeatures glider_features(const Glider& g, double dz, double gravity) {
   }
   f.wing_loading = total_area > 0 ? f.mass * gravity / total_area : 0.0;
   f.fuselage_ratio = mw.area > 0 ? f.fuselage_area / mw.area : 0.0;
+  f.wake_influence = wake_table(f.wings);
   return f;
+}
+
+Vec2 GliderFeatures::wake_unit(std::size_t i, std::size_t j, double psi) const {
+  const std::size_t n = wings.size();
+  constexpr int na = kWakeAngleMax - kWakeAngleMin + 1;
+  if (i >= n || j >= n || wake_influence.size() != n * n * na) return {0, 0};
+  const double x = std::clamp(psi * kRadToDeg - kWakeAngleMin, 0.0, static_cast<double>(na - 1));
+  const int k = std::min(static_cast<int>(x), na - 2);
+  const double t = x - k;
+  const Vec2* u = &wake_influence[(i * n + j) * na];
+  return (1 - t) * u[k] + t * u[k + 1];
 }
 
 double helmbold_efficiency(double aspect_ratio, double section_slope) {
@@ -285,29 +380,13 @@ void EffectAero::flows(const FlightState& s, WingFlow* out) const {
     }
   }
   const int passes = iterate_ ? 4 : 1;
-  // Interference: the horseshoe of wing i induces at wing j a velocity
-  // proportional to its circulation, with a geometry fixed for this state
-  // (the legs follow the free stream): the unit-circulation velocities are
-  // computed once here, and each pass only scales them.
+  // Interference: the wakes of the other wings, tabulated per wake angle
+  // (GliderFeatures::wake_unit), scaled in each pass by V_i C_L,i.
   Vec2 unit[8][8];
   if (values_.downwash != 0 && passes > 1) {
-    const V3 d = V > 0 ? V3{a.x / V, a.y / V, 0.0} : V3{-1, 0, 0};
-    for (std::size_t i = 0; i < nn; ++i) {
-      const auto& wi = f_.wings[i];
-      const double bp = kPi / 4 * wi.span;
-      const V3 A{wi.quarter_chord.x, wi.quarter_chord.y, -bp / 2}, B{wi.quarter_chord.x, wi.quarter_chord.y, bp / 2};
-      const double rc = 0.25 * wi.mean_chord;
-      for (std::size_t j = 0; j < nn; ++j) {
-        unit[i][j] = {0, 0};
-        if (j == i) continue;
-        const auto& wj = f_.wings[j];
-        for (double zf : {0.0, 0.3, 0.6}) {
-          const V3 P{wj.three_quarter_chord.x, wj.three_quarter_chord.y, zf * wj.span / 2};
-          const V3 v = horseshoe_velocity(P, A, B, d, 1.0, rc);
-          unit[i][j] = unit[i][j] + Vec2{v[0], v[1]};
-        }
-      }
-    }
+    const double psi = V > 0 ? std::atan2(a.y, -a.x) : 0.0;
+    for (std::size_t i = 0; i < nn; ++i)
+      for (std::size_t j = 0; j < nn; ++j) unit[i][j] = j == i ? Vec2{0, 0} : f_.wake_unit(i, j, psi);
   }
   for (int pass = 0; pass < passes; ++pass) {
     for (std::size_t j = 0; j < nn; ++j) {
@@ -333,14 +412,13 @@ void EffectAero::flows(const FlightState& s, WingFlow* out) const {
       out[j].cl = lift / f_.wings[j].area;
     }
     if (pass + 1 == passes || values_.downwash == 0) continue;
-    // Interference: horseshoe vortices of the other wings, circulation
-    // Gamma_i = V_i C_L,i S_i / (2 b'_i) from this pass's table lift.
+    // Interference: the other wings' wakes, circulation 1/2 V_i C_L,i c(z)
+    // (strip loading) from this pass's table lift.
     for (std::size_t j = 0; j < nn; ++j) w[j] = {0, 0};
     for (std::size_t i = 0; i < nn; ++i) {
-      const auto& wi = f_.wings[i];
-      const double gamma = 0.5 * out[i].speed * out[i].cl * wi.area / (kPi / 4 * wi.span);
+      const double scale = values_.downwash * out[i].speed * out[i].cl;
       for (std::size_t j = 0; j < nn; ++j)
-        if (j != i) w[j] = w[j] + (values_.downwash * gamma / 3.0) * unit[i][j];
+        if (j != i) w[j] = w[j] + scale * unit[i][j];
     }
   }
 }

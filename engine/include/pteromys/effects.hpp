@@ -140,7 +140,23 @@ struct WingFeatures {
   Vec2 mid_chord;            ///< area-weighted mean mid-chord point - CG [m]
   double apparent_mass = 0;     ///< pi/4 sum l^2 dz [m^3] (times rho: kg)
   double apparent_inertia = 0;  ///< pi/128 sum l^4 dz [m^5] (times rho: kg m^2)
+  /// The planform in spanwise bands (downwash): its element slices, grouped
+  /// into at most kWakeBands; each band's extent, area, mean chord (area /
+  /// width) and area-weighted mean 1/4- and 3/4-chord points (glider frame,
+  /// - CG) [m].
+  struct Band {
+    double z0 = 0, z1 = 0, area = 0, chord = 0;
+    Vec2 quarter, three_quarter;
+  };
+  std::vector<Band> bands;
 };
+
+/// At most this many spanwise bands resolve a wing's wake and its downwash targets.
+constexpr int kWakeBands = 48;
+/// Wake angles of the downwash table: psi (the free stream's angle in the
+/// glider frame, = the glider's angle of attack in still air) from
+/// kWakeAngleMin to kWakeAngleMax degrees in 1 degree steps; clamped outside.
+constexpr int kWakeAngleMin = -30, kWakeAngleMax = 40;
 
 /// Geometry, mass and the features the diagnosis reports per glider.
 struct GliderFeatures {
@@ -161,6 +177,15 @@ struct GliderFeatures {
   double tail_volume = 0;         ///< S_t l_t / (S_w c_w) (0 without a second wing)
   double wing_loading = 0;        ///< m g / (total wing area) [N/m^2]
   double fuselage_ratio = 0;      ///< fuselage area / main wing area
+  /// Downwash: the wake of wing i loaded as the strip model loads it
+  /// (circulation 1/2 c(z) per unit V_i C_L,i on every band: a horseshoe per
+  /// band, bound leg on its 1/4-chord line, legs along the free stream at
+  /// angle psi) induces at wing j, area-weighted over j's bands' 3/4-chord
+  /// points, the mean velocity wake_unit(i, j, psi) (glider frame) [m/s per
+  /// (m/s)]; 0 for i == j. Tabulated per degree of psi when the features
+  /// are made (the geometry is fixed to the body); linear in between.
+  std::vector<Vec2> wake_influence;  ///< (i * n + j) * angles + k
+  Vec2 wake_unit(std::size_t i, std::size_t j, double psi) const;
 };
 
 /// Features of a glider (wing elements at spacing dz [m]).
