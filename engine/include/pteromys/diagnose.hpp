@@ -84,7 +84,11 @@ struct DiagnoseOptions {
   /// polish >= effects.size(): every candidate is refitted so, an aerodynamic
   /// one starting from strength 1 (with fixed coefficients an absorbed effect
   /// shows no gain and would not be chosen); the centre values are pulled
-  /// toward the baseline's (DiagFitOptions::coefficient_regularisation_m).
+  /// toward the baseline's (DiagFitOptions::coefficient_regularisation_m). A candidate whose
+  /// polished fit gains by its centre values rather than by its strength
+  /// hands them to the baseline (refitted from them at strength 0 and kept
+  /// when better), so that no effect is credited with a better basin of
+  /// coefficients.
   int polish = 0;
   /// launch_rotation as a launch parameter: every flight's pitch rate at its
   /// first tracked point is fitted (one more launch value per flight, on
