@@ -183,6 +183,44 @@ int centre_count(const std::shared_ptr<const CoefficientModel>& m) {
 
 }  // namespace
 
+SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict) {
+  SecondRoundOutcome out;
+  out.verdict = verdict;
+  const int n = static_cast<int>(effects.size());
+  if (verdict < 0 || verdict >= n) throw InputError("second round: no verdict to test against");
+  std::vector<int> also;
+  for (int e = 0; e < n; ++e)
+    if (e != verdict && effects[e].given_verdict.tested && effects[e].given_verdict.significant) also.push_back(e);
+  std::stable_sort(also.begin(), also.end(), [&](int a, int b) {
+    return effects[a].given_verdict.shrink > effects[b].given_verdict.shrink;
+  });
+  // The reverse tests in order: `also` (best first), then the effects
+  // significant on their own that add nothing given the verdict's.
+  std::vector<int> reverse = also;
+  for (int e = 0; e < n; ++e)
+    if (e != verdict && effects[e].given_verdict.tested && effects[e].significant &&
+        !effects[e].given_verdict.significant)
+      reverse.push_back(e);
+  int replacement = -1;
+  std::vector<int> alternatives;
+  for (int e : reverse) {
+    const auto& g = effects[e].given_verdict;
+    if (!g.reverse_tested) continue;
+    if (g.significant && replacement < 0 && !g.verdict_still_needed && effects[e].significant) replacement = e;
+    if (!g.significant && !g.verdict_still_needed) alternatives.push_back(e);
+  }
+  if (replacement >= 0) {
+    // The verdict's effect only imitated this one; `also` and the
+    // alternatives were tested against the replaced verdict, not this one.
+    out.replaced = verdict;
+    out.verdict = replacement;
+  } else {
+    out.also = also;
+    out.alternatives = alternatives;
+  }
+  return out;
+}
+
 bool launch_rotation_per_flight_from(const std::string& value, const std::string& option) {
   if (value != "per-flight" && value != "common")
     throw InputError(option + " must be 'per-flight' or 'common', not '" + value + "'");
@@ -974,7 +1012,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     std::vector<int> reverse = also;
     for (int e : rest)
       if (res.effects[e].significant && !res.effects[e].given_verdict.significant) reverse.push_back(e);
-    int replacement = -1;
     for (int e : reverse) {
       EffectResult& r = res.effects[e];
       auto& g = r.given_verdict;
@@ -994,17 +1031,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       g.verdict_still_needed = decided(g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()),
                                        g.reverse_shrink, g.reverse_holdout_delta_chi2, g.reverse_threshold);
       g.reverse_tested = true;
-      if (g.significant && replacement < 0 && !g.verdict_still_needed && r.significant) replacement = e;
-      if (!g.significant && !g.verdict_still_needed) res.alternatives.push_back(r.name);
     }
-    if (replacement >= 0) {
-      res.replaced = res.effects[best].name;
-      best = replacement;
-      res.verdict = res.effects[best].name;
-      res.alternatives.clear();  // tested against the replaced verdict, not this one
-    } else {
-      for (int e : also) res.also.push_back(res.effects[e].name);
-    }
+    const SecondRoundOutcome sr = second_round_outcome(res.effects, best);
+    if (sr.replaced >= 0) res.replaced = res.effects[sr.replaced].name;
+    best = sr.verdict;
+    res.verdict = res.effects[best].name;
+    for (int e : sr.also) res.also.push_back(res.effects[e].name);
+    for (int e : sr.alternatives) res.alternatives.push_back(res.effects[e].name);
     timings["second_round_s"] = since(t2);
   }
 

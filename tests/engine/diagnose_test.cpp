@@ -345,3 +345,59 @@ TEST(DiagnosisFit, PolishedCentreValuesArePulledTowardTheStart) {
   EXPECT_LT(deviation(rt), 1e-2 * deviation(rl));
   EXPECT_LE(rl.sse, rt.sse * (1 + 1e-9));
 }
+
+// The second round's decision from its tests (the fits are exercised by
+// SecondRoundFindsTheSecondEffectAndOnlyIt; here every branch of the rule,
+// with tests set by hand): `also` ordered by shrink given the verdict; an
+// effect of `also`, significant on its own, that leaves the verdict's effect
+// superfluous replaces it; one that is only significant given the verdict
+// does not; effects that add nothing given the verdict while the verdict's
+// adds nothing given them are `alternatives`.
+TEST(Diagnose, SecondRoundDecisionFollowsItsRule) {
+  auto effect = [](bool first, bool given, double shrink, bool reverse, bool needed) {
+    EffectResult r;
+    r.significant = first;
+    r.given_verdict.tested = true;
+    r.given_verdict.significant = given;
+    r.given_verdict.shrink = shrink;
+    r.given_verdict.reverse_tested = reverse;
+    r.given_verdict.verdict_still_needed = needed;
+    return r;
+  };
+  EffectResult verdict;
+  verdict.significant = true;  // not tested given itself
+  {  // Two further effects, both real: `also` best first, nothing replaced.
+    const std::vector<EffectResult> e = {verdict, effect(false, true, 0.1, true, true), effect(true, true, 0.3, true, true)};
+    const SecondRoundOutcome s = second_round_outcome(e, 0);
+    EXPECT_EQ(s.verdict, 0);
+    EXPECT_EQ(s.replaced, -1);
+    EXPECT_EQ(s.also, (std::vector<int>{2, 1}));
+    EXPECT_TRUE(s.alternatives.empty());
+  }
+  {  // Effect 2 explains what the verdict explained and more: it replaces it.
+    const std::vector<EffectResult> e = {verdict, effect(false, true, 0.2, true, true), effect(true, true, 0.1, true, false)};
+    const SecondRoundOutcome s = second_round_outcome(e, 0);
+    EXPECT_EQ(s.verdict, 2);
+    EXPECT_EQ(s.replaced, 0);
+    EXPECT_TRUE(s.also.empty());
+    EXPECT_TRUE(s.alternatives.empty());
+  }
+  {  // Not significant on its own: it cannot replace the verdict, it stays in `also`.
+    const std::vector<EffectResult> e = {verdict, effect(false, true, 0.2, true, false)};
+    const SecondRoundOutcome s = second_round_outcome(e, 0);
+    EXPECT_EQ(s.verdict, 0);
+    EXPECT_EQ(s.replaced, -1);
+    EXPECT_EQ(s.also, (std::vector<int>{1}));
+  }
+  {  // Significant on its own, nothing given the verdict, and the verdict
+     // nothing given it: an alternative. One whose reverse test keeps the
+     // verdict is not.
+    const std::vector<EffectResult> e = {effect(true, false, 0.0, true, false), verdict,
+                                         effect(true, false, 0.0, true, true), effect(false, false, 0.0, false, true)};
+    const SecondRoundOutcome s = second_round_outcome(e, 1);
+    EXPECT_EQ(s.verdict, 1);
+    EXPECT_EQ(s.alternatives, (std::vector<int>{0}));
+    EXPECT_TRUE(s.also.empty());
+  }
+  EXPECT_THROW(second_round_outcome({verdict}, 3), InputError);
+}

@@ -197,6 +197,24 @@ struct DiagnoseResult {
   nlohmann::json timings;
 };
 
+/// The second round's decision (docs/diagnosis.md) from the tests already
+/// made: every effect's first-round `significant` and, for the effects
+/// tested given the verdict's (`given_verdict.tested`), their significance
+/// given it and the reverse tests (`verdict_still_needed`, where
+/// `reverse_tested`). `also`: effects significant given the verdict's, best
+/// shrink first. An effect of `also` that is significant on its own and
+/// leaves the verdict's effect superfluous replaces the verdict (the first
+/// such in `also`'s order; `also` and `alternatives` are then empty, since
+/// they were tested against the replaced verdict). `alternatives`: effects
+/// significant on their own that add nothing given the verdict's while the
+/// verdict's adds nothing given them. Indices into `effects`.
+struct SecondRoundOutcome {
+  int verdict = -1;
+  int replaced = -1;  ///< the first round's verdict when it was replaced
+  std::vector<int> also, alternatives;
+};
+SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict);
+
 /// DiagnoseOptions::launch_rotation_per_flight from its spelling in the
 /// command line and the Python call: "per-flight" (true) or "common"
 /// (false); anything else is an InputError naming `option`.
