@@ -10,6 +10,8 @@ confusion matrix, top-1 attribution, false discoveries on null data, shrink
 against the oracle, fitted against true strength, detection against strength.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/diagnosis/run_blind.py --build build --out out/blind [--quick]
+    # a strength sweep with the default (fixed-coefficient) diagnosis:
+    ... run_blind.py --out out/sweep --polish 0 --cases pitch_damping-0.5-s25,pitch_damping-0.25-s25,null-s35
 
 The oracle is the reference simulator itself (the baseline plus the true
 effect): it explains a flight up to the tracking noise, so its held-out RMSE
@@ -39,7 +41,8 @@ EFFECTS = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_
 # docs/capture.md); ground effect is recorded in the landing window instead.
 GEN = ["--flights-per-glider", "4", "--frame-rate", "30", "--points", "30-45", "--noise-m", "0.01",
        "--retrim", "2", "--speed-relative", "1:1.3"]
-DIAG = ["--max-centres", "8", "--folds", "4", "--polish", "9"]  # every candidate refitted with the coefficients
+DIAG = ["--max-centres", "8", "--folds", "4"]  # plus --polish N (run_blind.py --polish, default 9: every candidate
+# refitted with the coefficients; 0: the diagnosis's default, coefficients fixed in every effect fit)
 
 
 def cases(quick):
@@ -95,11 +98,13 @@ def one(case, args, gl_dir):
     if not os.path.isfile(os.path.join(d, "data", "dataset.json")):
         run(gen, log)
     t = time.time()
-    run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG, log)
+    run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG +
+        ["--polish", str(args.polish)], log)
     os.replace(res + ".tmp", res)
     with open(res) as f:
         r = json.load(f)
     r.setdefault("timings", {})["wall_s"] = time.time() - t
+    r["bench_polish"] = args.polish
     commit = os.path.join(args.build, "COMMIT")  # a frozen copy of the binary says which commit it was built from
     if os.path.isfile(commit):
         r["bench_commit"] = open(commit).read().strip()
@@ -255,20 +260,58 @@ def markdown(s):
             r["noise_cm"], r["chi2"], 100 * r["oracle_shrink"],
             "%.1f %%" % (100 * r["true_shrink"]) if "true_shrink" in r else "",
             "%.2f" % r["shrink_vs_oracle"] if "shrink_vs_oracle" in r else "", fs, r["seconds"])
+    # Detection against strength: each single-effect case by effect and
+    # strength, whether the true effect was significant on its own and the
+    # verdict; the detection threshold lies between the strongest miss and
+    # the weakest hit.
+    by = {}
+    for r in s["rows"]:
+        if r["truth"] in EFFECTS:
+            by.setdefault(r["truth"], []).append(r)
+    if any(len(v) > 1 for v in by.values()):
+        out += "\nDetection against strength (the true effect significant on its own? the verdict)\n\n"
+        out += "| effect | strength: significant, verdict (case) |\n|---|---|\n"
+        for e in EFFECTS:
+            if e in by:
+                rs = sorted(by[e], key=lambda x: float(x["strength"]))
+                out += "| %s | %s |\n" % (e, "; ".join("%s: %s, %s (%s)" % (
+                    x["strength"], "yes" if e in x["significant"] else "no", x["verdict"], x["case"]) for x in rs))
     return out
+
+
+def case_of(name):
+    """A case from its name: one of the lists, or EFFECT-STRENGTH-sSEED (one
+    effect at any strength, e.g. pitch_damping-0.5-s25, for the strength
+    sweep) or null-sSEED. None if the name is neither."""
+    known = {c["name"]: c for c in cases(False)}
+    if name in known:
+        return known[name]
+    parts = name.split("-")
+    try:
+        if len(parts) == 2 and parts[0] == "null" and parts[1].startswith("s"):
+            return {"name": name, "truth": [], "strength": {}, "seed": int(parts[1][1:])}
+        if len(parts) == 3 and parts[0] in EFFECTS and parts[2].startswith("s"):
+            k = float(parts[1])
+            if k > 0:
+                return {"name": name, "truth": [parts[0]], "strength": {parts[0]: k}, "seed": int(parts[2][1:]),
+                        "main": k == 1.0}
+    except ValueError:
+        pass
+    return None
 
 
 def selected(args):
     """The cases to run: the list (quick or full), or those named by --cases
-    in the order given (names of either list)."""
+    in the order given (names of either list, or EFFECT-STRENGTH-sSEED,
+    null-sSEED)."""
     if not args.cases:
         return cases(args.quick)
-    known = {c["name"]: c for c in cases(False)}
     names = [n for n in args.cases.split(",") if n]
-    bad = [n for n in names if n not in known]
+    bad = [n for n in names if case_of(n) is None]
     if bad:
-        sys.exit("run_blind.py: unknown case(s) %s; cases are: %s" % (", ".join(bad), ", ".join(known)))
-    return [known[n] for n in names]
+        sys.exit("run_blind.py: unknown case(s) %s; cases are: %s, or EFFECT-STRENGTH-sSEED, null-sSEED" % (
+            ", ".join(bad), ", ".join(c["name"] for c in cases(False))))
+    return [case_of(n) for n in names]
 
 
 def run_all(args, gl_dir):
@@ -296,6 +339,8 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--cases", default="", help="comma list of case names to run, in this order (default: the list)")
     ap.add_argument("--summarise", action="store_true", help="only tabulate the cases that have finished")
+    ap.add_argument("--polish", type=int, default=9,
+                    help="candidates refitted with the coefficients (9: all, the protocol; 0: the diagnosis default)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     gl_dir = os.path.join(args.out, "gliders")
@@ -308,13 +353,14 @@ def main():
                 o.write(f.read())
     if not args.summarise:
         run_all(args, gl_dir)
-    # The summary covers every finished case of the full list in --out, so
-    # that runs of parts of the list (--cases, --quick, runs stopped early)
-    # add up.
+    # The summary covers every finished case in --out (of the lists or
+    # named), so that runs of parts of the list (--cases, --quick, runs
+    # stopped early) add up.
     results = []
-    for c in cases(False):
-        res = os.path.join(args.out, c["name"], "diagnosis.json")
-        if os.path.isfile(res):
+    for name in sorted(os.listdir(args.out)):
+        c = case_of(name)
+        res = os.path.join(args.out, name, "diagnosis.json")
+        if c is not None and os.path.isfile(res):
             with open(res) as f:
                 results.append((c, json.load(f)))
     results.sort(key=lambda cr: cr[0]["name"])
