@@ -183,24 +183,36 @@ int centre_count(const std::shared_ptr<const CoefficientModel>& m) {
 
 }  // namespace
 
-SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict) {
-  SecondRoundOutcome out;
-  out.verdict = verdict;
+namespace {
+/// The second round's reverse tests, in order: `also` (the effects
+/// significant given the verdict's, best shrink first), then the effects
+/// significant on their own that add nothing given the verdict's. One list
+/// for the tests diagnose() runs and for the decision made from them.
+std::vector<int> reverse_tests(const std::vector<EffectResult>& effects, int verdict, std::vector<int>* also_out) {
   const int n = static_cast<int>(effects.size());
-  if (verdict < 0 || verdict >= n) throw InputError("second round: no verdict to test against");
   std::vector<int> also;
   for (int e = 0; e < n; ++e)
     if (e != verdict && effects[e].given_verdict.tested && effects[e].given_verdict.significant) also.push_back(e);
   std::stable_sort(also.begin(), also.end(), [&](int a, int b) {
     return effects[a].given_verdict.shrink > effects[b].given_verdict.shrink;
   });
-  // The reverse tests in order: `also` (best first), then the effects
-  // significant on their own that add nothing given the verdict's.
   std::vector<int> reverse = also;
   for (int e = 0; e < n; ++e)
     if (e != verdict && effects[e].given_verdict.tested && effects[e].significant &&
         !effects[e].given_verdict.significant)
       reverse.push_back(e);
+  if (also_out) *also_out = std::move(also);
+  return reverse;
+}
+}  // namespace
+
+SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict) {
+  SecondRoundOutcome out;
+  out.verdict = verdict;
+  const int n = static_cast<int>(effects.size());
+  if (verdict < 0 || verdict >= n) throw InputError("second round: no verdict to test against");
+  std::vector<int> also;
+  const std::vector<int> reverse = reverse_tests(effects, verdict, &also);
   int replacement = -1;
   std::vector<int> alternatives;
   for (int e : reverse) {
@@ -651,7 +663,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K);
     const auto model = coefficient_fit(keys, label);
     FitOutcome base_tr = fit_baseline(model, train);
-    FitOutcome base_ho = held_out_fit({base_tr.model.coefficients, {}, {}}, test, trims_of(D, test, o.trim), nullptr);
+    // The held-out gliders under the baseline's coefficients, their own
+    // launches and trims.
+    auto baseline_held_out = [&] {
+      return held_out_fit({base_tr.model.coefficients, {}, {}}, test, trims_of(D, test, o.trim), nullptr);
+    };
+    FitOutcome base_ho = baseline_held_out();
     report("fold", label + ": baseline RMSE " + cm(base_tr.rmse()) + " on training gliders, " + cm(base_ho.rmse()) +
                        " on held-out gliders");
     const auto coefficients_before = base_tr.model.coefficients;
@@ -659,7 +676,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     if (base_tr.model.coefficients != coefficients_before) {
       // The baseline took a polished candidate's centre values: predict the
       // held-out gliders with them.
-      base_ho = held_out_fit({base_tr.model.coefficients, {}, {}}, test, trims_of(D, test, o.trim), nullptr);
+      base_ho = baseline_held_out();
       report("fold", label + ": refitted baseline: " + cm(base_ho.rmse()) + " on held-out gliders", false);
     }
     if (k == 0) first_train = base_tr;
@@ -712,7 +729,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         j["candidates"][effect_name(o.effects[e])]["train"]["model"] = model_to_json(*trs[e].model.coefficients);
         j["candidates"][effect_name(o.effects[e])]["heldout"] = outcome(hos[e]);
       }
-      std::ofstream(std::string(dir) + "/fold" + std::to_string(k) + ".json") << j.dump(1);
+      const std::string path = std::string(dir) + "/fold" + std::to_string(k) + ".json";
+      std::ofstream out(path);
+      out << j.dump(1);
+      if (!out) report("fold", "PTEROMYS_DIAG_DUMP: could not write " + path + " (does the directory exist?)", false);
     }
     fold_train[k] = train;
     fold_test[k] = test;
@@ -993,14 +1013,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         res.effects[rest[i]].given_verdict.lr_pass = pass[i];
       }
     }
-    std::vector<int> also;
     for (int e : rest) {
       auto& g = res.effects[e].given_verdict;
       g.significant = decided(g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
-      if (g.significant) also.push_back(e);
     }
-    std::sort(also.begin(), also.end(),
-              [&](int a, int b) { return res.effects[a].given_verdict.shrink > res.effects[b].given_verdict.shrink; });
     // The reverse test for each effect of `also`: is the verdict's effect
     // still needed once that one is in the model (joint fit against that
     // effect's own first-round fit)? The best effect that makes it
@@ -1009,10 +1025,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // adds nothing given the verdict's: if the verdict's adds nothing given
     // it either, the two explain the same misfit and the data cannot tell
     // them apart (`alternatives`).
-    std::vector<int> reverse = also;
-    for (int e : rest)
-      if (res.effects[e].significant && !res.effects[e].given_verdict.significant) reverse.push_back(e);
-    for (int e : reverse) {
+    for (int e : reverse_tests(res.effects, best, nullptr)) {
       EffectResult& r = res.effects[e];
       auto& g = r.given_verdict;
       const Effect E = o.effects[e];

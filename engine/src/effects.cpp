@@ -93,15 +93,22 @@ V3 leg(const V3& p, const V3& a, const V3& d, double rc) {
   return {k * c[0], k * c[1], k * c[2]};
 }
 
+/// A point x along a wing's chord line (wing frame) in the glider frame, - cg.
+Vec2 on_glider(double x, const Mount& m, Vec2 cg) {
+  return Vec2{m.x_m, m.y_m} + rotate({x, 0.0}, deg2rad(m.angle_deg)) - cg;
+}
+
 Vec2 mean_point(const WingElements& el, double chord_fraction, const Mount& m, Vec2 cg) {
   double a = 0, x = 0;
   for (const auto& e : el.elements) {
     a += e.area;
     x += e.area * (e.x_le - chord_fraction * e.chord);
   }
-  const double xm = a > 0 ? x / a : 0.0;
-  return Vec2{m.x_m, m.y_m} + rotate({xm, 0.0}, deg2rad(m.angle_deg)) - cg;
+  return on_glider(a > 0 ? x / a : 0.0, m, cg);
 }
+
+/// Wake angles of the downwash table (kWakeAngleMin..kWakeAngleMax, 1 degree).
+constexpr int kWakeAngles = kWakeAngleMax - kWakeAngleMin + 1;
 
 /// The planform in spanwise bands: the element slices (pieces of one slice
 /// merged), consecutive slices grouped so that there are at most kWakeBands;
@@ -123,7 +130,6 @@ std::vector<WingFeatures::Band> wake_bands(const WingElements& el, const Mount& 
   }
   const std::size_t n = slices.size();
   const std::size_t group = (n + kWakeBands - 1) / kWakeBands;
-  const double th = deg2rad(m.angle_deg);
   std::vector<WingFeatures::Band> out;
   for (std::size_t i = 0; i < n; i += group) {
     Slice b{slices[i].z0, slices[i].z1};
@@ -139,8 +145,8 @@ std::vector<WingFeatures::Band> wake_bands(const WingElements& el, const Mount& 
     band.z1 = b.z1;
     band.area = b.a;
     band.chord = b.a / (b.z1 - b.z0);
-    band.quarter = Vec2{m.x_m, m.y_m} + rotate({b.xq / b.a, 0.0}, th) - cg;
-    band.three_quarter = Vec2{m.x_m, m.y_m} + rotate({b.xt / b.a, 0.0}, th) - cg;
+    band.quarter = on_glider(b.xq / b.a, m, cg);
+    band.three_quarter = on_glider(b.xt / b.a, m, cg);
     out.push_back(band);
   }
   return out;
@@ -152,7 +158,7 @@ std::vector<WingFeatures::Band> wake_bands(const WingElements& el, const Mount& 
 /// points. Vortex core: the larger of 5 % of the mean chord and half a band.
 std::vector<Vec2> wake_table(const std::vector<WingFeatures>& wings) {
   const std::size_t n = wings.size();
-  constexpr int na = kWakeAngleMax - kWakeAngleMin + 1;
+  constexpr int na = kWakeAngles;
   std::vector<Vec2> out(n * n * na, Vec2{0, 0});
   if (n < 2) return out;
   for (int k = 0; k < na; ++k) {
@@ -306,7 +312,7 @@ GliderFeatures glider_features(const Glider& g, double dz, double gravity) {
 
 Vec2 GliderFeatures::wake_unit(std::size_t i, std::size_t j, double psi) const {
   const std::size_t n = wings.size();
-  constexpr int na = kWakeAngleMax - kWakeAngleMin + 1;
+  constexpr int na = kWakeAngles;
   if (i >= n || j >= n || wake_influence.size() != n * n * na) return {0, 0};
   const double x = std::clamp(psi * kRadToDeg - kWakeAngleMin, 0.0, static_cast<double>(na - 1));
   const int k = std::min(static_cast<int>(x), na - 2);
