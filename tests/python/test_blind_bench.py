@@ -1,0 +1,135 @@
+"""The blind-validation benchmark's bookkeeping (bench/diagnosis/run_blind.py,
+issue 7): its figures go into docs/diagnosis.md, so the way it names cases,
+converts fitted parameters into the reference simulator's strengths and
+counts attributions and false discoveries is checked here.
+
+The strengths are checked against what the reference simulator records of
+the data it made (generation.json: the wind in m/s, the camera's scale and
+roll, the launch rotation's nominal rate), not against the script itself; the
+counts against tables worked out by hand from made-up diagnosis results.
+"""
+import importlib.util
+import json
+import os
+
+import pytest
+
+from conftest import ROOT, run
+
+spec = importlib.util.spec_from_file_location("run_blind", os.path.join(ROOT, "bench", "diagnosis", "run_blind.py"))
+rb = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(rb)
+
+
+def test_every_listed_case_is_found_again_from_its_name():
+    for c in rb.cases(False):
+        assert rb.case_of(c["name"]) == c
+
+
+def test_sweep_and_null_names_are_parsed_and_others_refused():
+    c = rb.case_of("pitch_damping-0.5-s25")
+    assert c["truth"] == ["pitch_damping"] and c["strength"] == {"pitch_damping": 0.5} and c["seed"] == 25
+    assert not c["main"]  # only strength 1 counts towards the top-1 rate
+    assert rb.case_of("wind-1-s99")["main"]
+    assert rb.case_of("null-s40") == {"name": "null-s40", "truth": [], "strength": {}, "seed": 40}
+    for bad in ["gravity-1-s2", "wind-x-s2", "wind-0-s2", "wind-1-2", "null-40", "null-sx", "wind", "", "gliders"]:
+        assert rb.case_of(bad) is None, bad
+
+
+def test_unknown_case_names_stop_the_run_with_the_list():
+    class A:
+        cases = "null-s32,downwash-one-s2"
+        quick = False
+    with pytest.raises(SystemExit) as e:
+        rb.selected(A())
+    assert "downwash-one-s2" in str(e.value) and "null-s32" in str(e.value)
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory):
+    """One glider flown by the reference simulator with the session effects at
+    chosen strengths; its generation.json is the record of the truth."""
+    tmp = tmp_path_factory.mktemp("blind_bench")
+    gl = tmp / "gliders"
+    gl.mkdir()
+    src = os.path.join(ROOT, "examples", "training", "t01-rectangular.glider.json")
+    (gl / "t01-rectangular.glider.json").write_text(open(src).read())
+    out = tmp / "data"
+    r = run(["generate", gl, "-o", out, "--flights-per-glider", "2", "--seed", "3", "--quiet",
+             "--effects", "wind,camera,launch_rotation", "--strength", "wind=0.5,camera=-1.5,launch_rotation=2"])
+    assert r.returncode == 0, r.stderr
+    with open(out / "generation.json") as f:
+        return json.load(f)
+
+
+def test_fitted_wind_in_m_s_becomes_the_reference_strength(generated):
+    assert generated["effect_switches"]["wind"] == {"on": True, "strength": 0.5}
+    assert rb.strength_of("wind", {"wind_m_s": generated["wind_m_s"]}) == pytest.approx(0.5, abs=1e-12)
+
+
+def test_fitted_camera_scale_and_roll_become_the_reference_strengths(generated):
+    cam = generated["camera"]
+    s = rb.strength_of("camera", {"scale_error": cam["scale"] - 1.0, "roll_deg": cam["roll_deg"]})
+    assert s == pytest.approx((-1.5, -1.5), abs=1e-9)
+
+
+def test_fitted_launch_rotation_becomes_the_reference_strength(generated):
+    # The flights' mean rate at strength 2 is 2 x the launcher's nominal rate.
+    nominal = generated["launcher"]["launch_rotation_deg_s"]
+    assert rb.strength_of("launch_rotation", {"pitch_rate_deg_s": 2 * nominal}) == pytest.approx(2.0)
+    assert rb.strength_of("pitch_damping", {"strength": 0.7}) == 0.7
+
+
+def _effect(name, lr_pass, shrink, cv_delta, cv_threshold=10.0):
+    return {"name": name, "shrink": shrink, "parameters": {"strength": 1.0},
+            "likelihood_ratio": {"pass": lr_pass}, "cross_validation": {"delta_chi2": cv_delta, "threshold": cv_threshold}}
+
+
+def _result(effects, chi2_ratio, holdout=0.02, noise=0.01):
+    return {"effects": effects, "baseline": {"holdout_rmse_m": holdout, "noise_rmse_m": noise,
+                                             "holdout_chi2_ratio": chi2_ratio}, "timings": {"total_s": 1.0}}
+
+
+def test_decision_needs_all_three_tests_and_orders_none_and_unexplained():
+    # Significant only when the training test passes, the held-out shrink is
+    # at least 5 % and the cross-validated gain beats its threshold.
+    r = rb.decide(_result([_effect("wind", True, 0.30, 50.0), _effect("camera", True, 0.40, 5.0),
+                           _effect("downwash", False, 0.50, 50.0)], 3.0))
+    assert [e["significant"] for e in r["effects"]] == [True, False, False]
+    assert r["verdict"] == "wind"
+    assert rb.decide(_result([_effect("wind", True, 0.04, 50.0)], 3.0))["verdict"] == "unexplained"
+    assert rb.decide(_result([_effect("wind", True, 0.04, 50.0)], 1.3))["verdict"] == "none"
+    # A run made with the second round keeps the engine's own decision.
+    r = _result([_effect("wind", False, 0.0, 0.0)], 3.0)
+    r.update(verdict="camera", also=[])
+    assert rb.decide(r)["verdict"] == "camera"
+
+
+def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
+    cases = [rb.case_of("wind-1-s22"), rb.case_of("camera-1-s22"), rb.case_of("wind-0.5-s25"),
+             rb.case_of("null-s32"), rb.case_of("null-s33"), rb.case_of("wind+camera-s41")]
+    results = [
+        _result([_effect("wind", True, 0.30, 50.0), _effect("camera", True, 0.01, 50.0)], 4.0, holdout=0.04),
+        _result([_effect("wind", True, 0.20, 50.0), _effect("camera", True, 0.10, 50.0)], 2.0),  # wrong: wind
+        _result([_effect("wind", True, 0.01, 50.0), _effect("camera", True, 0.01, 50.0)], 2.0),  # unexplained
+        _result([_effect("camera", True, 0.06, 50.0), _effect("wind", False, 0.0, 0.0)], 1.2),  # false discovery
+        _result([_effect("wind", False, 0.0, 0.0), _effect("camera", False, 0.0, 0.0)], 1.1),
+        _result([_effect("camera", True, 0.2, 50.0), _effect("wind", True, 0.1, 50.0)], 5.0),
+    ]
+    s = rb.summarise(list(zip(cases, results)))
+    assert s["single_nominal"] == 2 and s["top1"] == 1  # wind-0.5 is not at the main strength
+    assert s["confusion"]["wind"]["wind"] == 1 and s["confusion"]["camera"]["wind"] == 1
+    assert s["nulls"] == 2 and s["null_false"] == 1 and s["null_none"] == 1 and s["significant_effects_on_null"] == 1
+    assert s["gap_cases"] == 3 and s["gap_top1"] == 1 and s["gap_misattributed"] == 1
+    assert s["two_effect_cases"] == 1 and s["two_effect_verdict_in_truth"] == 1
+    assert s["two_effect_both_significant"] == 1 and s["two_effect_wrong_significant"] == 0
+    rows = {r["case"]: r for r in s["rows"]}
+    # Oracle shrink 1 - noise / baseline held-out: 1 - 1/4; the true effect's
+    # 0.30 of it is 0.4 of the oracle's.
+    assert rows["wind-1-s22"]["oracle_shrink"] == pytest.approx(0.75)
+    assert rows["wind-1-s22"]["shrink_vs_oracle"] == pytest.approx(0.4)
+    assert rows["camera-1-s22"]["true_rank"] == 2
+    assert s["median_shrink_vs_oracle_when_right"] == pytest.approx(0.4)
+    md = rb.markdown(s)
+    assert "Top-1 attribution at the main strength: 1 of 2" in md
+    assert "null datasets with a false discovery: 1 of 2" in md
