@@ -108,7 +108,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
   const std::set<std::string> valued = {"--json", "--report", "--model", "--folds", "--effects", "--alpha",
                                         "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
-                                        "--iterations", "--worst-flights", "--polish", "--launch-rotation"};
+                                        "--iterations", "--worst-flights", "--polish", "--launch-rotation",
+                                        "--oracle"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
@@ -154,6 +155,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.polish = whole(a, "--polish", o.polish, 0, 100);
   if (a.has("--launch-rotation"))
     o.launch_rotation_per_flight = launch_rotation_per_flight_from(a.get("--launch-rotation"), "--launch-rotation");
+  if (a.has("--oracle")) o.oracle = oracle_from(a.get("--oracle"), "--oracle");
   if (a.has("--model")) {
     const auto m = load_model(a.get("--model"));
     if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;
@@ -253,6 +255,10 @@ const bool registered_diagnose = register_command(
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"
          "  --no-second-round       do not test the other candidates added to the verdict's effect\n"
+         "  --oracle E=V[:V2],...   validation on data whose effects are known: also predict the\n"
+         "                          held-out gliders with the baseline plus these effects at these\n"
+         "                          values (units of \"parameters\", e.g. wind=-1,camera=0.03:2),\n"
+         "                          centre values refitted with them (\"oracle\" in the JSON)\n"
          "  --no-full-fit           skip the fit to all gliders (faster; LR tests from the folds)\n"
          "  --worst-flights N       flights shown before/after in the report (default 6)\n"
          "  --threads N             worker threads (default: all cores)\n"

@@ -239,6 +239,60 @@ bool launch_rotation_per_flight_from(const std::string& value, const std::string
   return value == "per-flight";
 }
 
+namespace {
+// Every effect once, with as many values as it has parameters, each inside
+// the effect's bounds (reported units).
+void check_oracle(const std::vector<std::pair<Effect, std::vector<double>>>& oracle, const std::string& option) {
+  std::set<Effect> seen;
+  for (const auto& [e, v] : oracle) {
+    const auto& sp = effect_spec(e);
+    if (!seen.insert(e).second) throw InputError(option + ": effect '" + effect_name(e) + "' is given twice");
+    if (v.size() != sp.parameters.size())
+      throw InputError(option + ": effect '" + effect_name(e) + "' takes " + std::to_string(sp.parameters.size()) +
+                       " value(s), given " + std::to_string(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const auto& p = sp.parameters[i];
+      const double x = v[i] / p.to_report;
+      if (!std::isfinite(x) || x < p.lower || x > p.upper)
+        throw InputError(option + ": " + effect_name(e) + " " + p.name + " " + fmt(v[i], 6) +
+                         " is outside the effect's range [" + fmt(p.lower * p.to_report, 6) + ", " +
+                         fmt(p.upper * p.to_report, 6) + "]");
+    }
+  }
+}
+}  // namespace
+
+std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::string& spec, const std::string& option) {
+  std::vector<std::pair<Effect, std::vector<double>>> out;
+  std::stringstream items(spec);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    const auto eq = item.find('=');
+    if (item.empty() || eq == std::string::npos)
+      throw InputError(option + ": '" + item + "' is not EFFECT=VALUE (e.g. wind=-1, camera=0.03:2)");
+    const Effect e = effect_from_name(item.substr(0, eq));
+    std::vector<double> v;
+    std::stringstream values(item.substr(eq + 1));
+    std::string x;
+    while (std::getline(values, x, ':')) {
+      std::size_t used = 0;
+      double y = std::numeric_limits<double>::quiet_NaN();
+      try {
+        y = std::stod(x, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (x.empty() || used != x.size() || !std::isfinite(y))
+        throw InputError(option + ": '" + x + "' in '" + item + "' is not a finite number");
+      v.push_back(y);
+    }
+    out.emplace_back(e, v);
+  }
+  if (out.empty()) throw InputError(option + " needs EFFECT=VALUE (e.g. wind=-1)");
+  check_oracle(out, option);
+  return out;
+}
+
 DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const DiagnoseCallback& progress) {
   const auto t0 = Clock::now();
   if (o.folds < 2) throw InputError("the number of folds must be at least 2");
@@ -252,6 +306,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("the shrink margin must be in [0, 1)");
   if (!(o.none_tolerance >= 0)) throw InputError("the noise tolerance must not be negative");
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("phase limits must not be negative");
+  check_oracle(o.oracle, "oracle");
   DiagFitOptions so = o.sim;
   so.threads = o.threads;
   const DiagnosisData D(d, so);
@@ -643,6 +698,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   double train_sse0 = 0;
   int train_dof0 = 0;
   FitOutcome first_train;
+  // The oracle's held-out error (DiagnoseOptions::oracle), summed over folds.
+  double oracle_sse_ho = 0;
+  int oracle_n_ho = 0;
+  std::vector<double> oracle_fold_rmse, oracle_fold_base_rmse;
   // Every fold's fits, kept for the second round (given the verdict's effect).
   std::vector<std::vector<int>> fold_train(K), fold_test(K);
   std::vector<std::vector<FitOutcome>> fold_trs(K), fold_hos(K);
@@ -694,6 +753,43 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         FitOutcome again = ho_fit(trs[e], base_ho);
         if (again.sse < hos[e].sse) hos[e] = std::move(again);
       }
+    if (!o.oracle.empty()) {
+      // The baseline plus the known effects at their given values: launches
+      // and trims first (cheap), then the centre values with them, as the
+      // baseline's were fitted; the held-out gliders as the candidates'.
+      DiagModel m = base_tr.model;
+      auto w = launches_of(base_tr);
+      for (const auto& [E, v] : o.oracle) {
+        const auto& sp = effect_spec(E);
+        for (std::size_t i = 0; i < v.size(); ++i)
+          m.effects.at(E, static_cast<int>(i)) = v[i] / sp.parameters[i].to_report;
+        if (per_flight(E)) {
+          m.effects.launch_rotation_per_flight = true;
+          w = with_rate(w, m.effects.launch_rotation);
+        }
+      }
+      const auto trims = trims_of(D, train, o.trim);
+      FitOutcome otr = settled(m, train, trims, &w);
+      if (centre_count(m.coefficients) > 0) {
+        std::vector<FreeParam> free;
+        for (int c = 0; c < 3 * centre_count(m.coefficients); ++c) free.push_back(FreeParam::coefficient(c));
+        free.insert(free.end(), trims.begin(), trims.end());
+        const auto w2 = launches_of(otr);
+        FitOutcome p = D.fit(otr.model, train, free, &w2);
+        if (p.sse < otr.sse) otr = std::move(p);
+      }
+      mean_rate(otr);
+      const FitOutcome oho = ho_fit_on(otr, base_ho, test, ho_trims);
+      int n = 0;
+      for (const auto& f : oho.flights) n += static_cast<int>(f.residual.size());
+      oracle_sse_ho += oho.sse;
+      oracle_n_ho += n;
+      oracle_fold_rmse.push_back(oho.rmse());
+      oracle_fold_base_rmse.push_back(base_ho.rmse());
+      report("fold", label + ": oracle (the baseline plus the known effects, centre values refitted): RMSE " +
+                         cm(otr.rmse()) + " on training gliders, " + cm(oho.rmse()) + " on held-out gliders (baseline " +
+                         cm(base_ho.rmse()) + ")", false);
+    }
     if (const char* dir = std::getenv("PTEROMYS_DIAG_DUMP"); dir && *dir) {
       // Development aid: every fold's fits (models, strengths, held-out
       // errors per flight and the states they reach) as JSON.
@@ -790,6 +886,16 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   res.holdout_rmse_m = std::sqrt(sse0_ho / n_ho);
   res.holdout_chi2_ratio = sse0_ho / (s2 * dof_ho);
   res.noise_rmse_m = std::sqrt(s2 * dof_ho / n_ho);
+  if (!o.oracle.empty() && oracle_n_ho > 0) {
+    OracleResult orc;
+    orc.effects = o.oracle;
+    orc.holdout_rmse_m = std::sqrt(oracle_sse_ho / oracle_n_ho);
+    orc.shrink = 1 - orc.holdout_rmse_m / res.holdout_rmse_m;
+    orc.holdout_chi2_ratio = oracle_sse_ho / (s2 * dof_ho);
+    orc.fold_holdout_rmse_m = oracle_fold_rmse;
+    orc.fold_baseline_holdout_rmse_m = oracle_fold_base_rmse;
+    res.oracle = orc;
+  }
   double sse0_fit = 0, dof_fit = 1;
   if (o.full_fit) {
     sse0_fit = base_full.sse;
@@ -1284,6 +1390,24 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   j["also"] = r.also;
   if (!r.replaced.empty()) j["replaced"] = r.replaced;
   j["alternatives"] = r.alternatives;
+  if (r.oracle) {
+    json eff = json::object();
+    for (const auto& [E, v] : r.oracle->effects) {
+      const auto& sp = effect_spec(E);
+      json par = json::object();
+      for (std::size_t i = 0; i < v.size() && i < sp.parameters.size(); ++i) par[sp.parameters[i].name] = v[i];
+      eff[effect_name(E)] = par;
+    }
+    j["oracle"] = {{"effects", eff},
+                   {"holdout_rmse_m", r.oracle->holdout_rmse_m},
+                   {"shrink", r.oracle->shrink},
+                   {"holdout_chi2_ratio", r.oracle->holdout_chi2_ratio},
+                   {"fold_holdout_rmse_m", r.oracle->fold_holdout_rmse_m},
+                   {"fold_baseline_holdout_rmse_m", r.oracle->fold_baseline_holdout_rmse_m},
+                   {"description", "the baseline plus the given effects at the given values, centre values and trims "
+                                   "refitted with them on each fold's training gliders; held-out gliders as the "
+                                   "candidates'"}};
+  }
   j["summary"] = r.summary;
   j["where"] = r.where;
   j["report"] = r.report;

@@ -80,6 +80,26 @@ def test_fitted_launch_rotation_becomes_the_reference_strength(generated):
     assert rb.strength_of("pitch_damping", {"strength": 0.7}) == 0.7
 
 
+def test_the_oracle_is_each_true_effect_at_its_true_strength():
+    """--oracle gives the truth in the diagnosis's units: read back by
+    strength_of (the conversion checked against generation.json above) it
+    is the case's strength."""
+    assert rb.oracle_spec(rb.case_of("null-s32")) is None
+    for name in ["wind-0.5-s25", "camera-2-s23", "launch_rotation-1-s22", "downwash-1-s22", "pitch_damping+wind-s42"]:
+        c = rb.case_of(name)
+        spec = rb.oracle_spec(c)
+        got = {}
+        for item in spec.split(","):
+            e, v = item.split("=")
+            vals = [float(x) for x in v.split(":")]
+            keys = {"wind": ["wind_m_s"], "launch_rotation": ["pitch_rate_deg_s"],
+                    "camera": ["scale_error", "roll_deg"]}.get(e, ["strength"])
+            got[e] = rb.strength_of(e, dict(zip(keys, vals)))
+        assert set(got) == set(c["truth"]), name
+        for e, k in c["strength"].items():
+            assert got[e] == pytest.approx((k, k) if e == "camera" else k), (name, e)
+
+
 def _effect(name, lr_pass, shrink, cv_delta, cv_threshold=10.0):
     return {"name": name, "shrink": shrink, "parameters": {"strength": 1.0},
             "likelihood_ratio": {"pass": lr_pass}, "cross_validation": {"delta_chi2": cv_delta, "threshold": cv_threshold}}
@@ -116,6 +136,7 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
         _result([_effect("wind", False, 0.0, 0.0), _effect("camera", False, 0.0, 0.0)], 1.1),
         _result([_effect("camera", True, 0.2, 50.0), _effect("wind", True, 0.1, 50.0)], 5.0),
     ]
+    results[0]["oracle"] = {"shrink": 0.375}
     s = rb.summarise(list(zip(cases, results)))
     assert s["single_nominal"] == 2 and s["top1"] == 1  # wind-0.5 is not at the main strength
     assert s["confusion"]["wind"]["wind"] == 1 and s["confusion"]["camera"]["wind"] == 1
@@ -124,12 +145,17 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
     assert s["two_effect_cases"] == 1 and s["two_effect_verdict_in_truth"] == 1
     assert s["two_effect_both_significant"] == 1 and s["two_effect_wrong_significant"] == 0
     rows = {r["case"]: r for r in s["rows"]}
-    # Oracle shrink 1 - noise / baseline held-out: 1 - 1/4; the true effect's
-    # 0.30 of it is 0.4 of the oracle's.
-    assert rows["wind-1-s22"]["oracle_shrink"] == pytest.approx(0.75)
-    assert rows["wind-1-s22"]["shrink_vs_oracle"] == pytest.approx(0.4)
+    # Noise-floor shrink 1 - noise / baseline held-out: 1 - 1/4; the true
+    # effect's 0.30 is 0.4 of it. The oracle's (the diagnosis's own
+    # "oracle" result) 0.375: the true effect's is 0.8 of it.
+    assert rows["wind-1-s22"]["ceiling_shrink"] == pytest.approx(0.75)
+    assert rows["wind-1-s22"]["shrink_vs_ceiling"] == pytest.approx(0.4)
+    assert rows["wind-1-s22"]["oracle_shrink"] == pytest.approx(0.375)
+    assert rows["wind-1-s22"]["shrink_vs_oracle"] == pytest.approx(0.8)
+    assert rows["camera-1-s22"]["oracle_shrink"] is None and "shrink_vs_oracle" not in rows["camera-1-s22"]
     assert rows["camera-1-s22"]["true_rank"] == 2
-    assert s["median_shrink_vs_oracle_when_right"] == pytest.approx(0.4)
+    assert s["median_shrink_vs_oracle_when_right"] == pytest.approx(0.8)
+    assert s["median_shrink_vs_ceiling_when_right"] == pytest.approx(0.4)
     md = rb.markdown(s)
     assert "Top-1 attribution at the main strength: 1 of 2" in md
     assert "null datasets with a false discovery: 1 of 2" in md

@@ -188,6 +188,9 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--folds", "1"], "--folds"),
     (["diagnose", "DS", "--json", "/nonexistent/dir/out.json"], "out.json"),
     (["diagnose", "DS", "--json", "OUT", "--launch-rotation", "sometimes"], "--launch-rotation"),
+    (["diagnose", "DS", "--json", "OUT", "--oracle", "wind"], "EFFECT=VALUE"),
+    (["diagnose", "DS", "--json", "OUT", "--oracle", "ground_effect=50"], "outside the effect's range"),
+    (["diagnose", "DS", "--json", "OUT", "--oracle", "camera=0.03"], "takes 2 value(s)"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None

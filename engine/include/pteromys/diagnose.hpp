@@ -27,6 +27,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -101,7 +102,32 @@ struct DiagnoseOptions {
   /// a second real effect stays significant, one that only absorbed the same
   /// misfit does not. Fixed coefficients (the verdict's fit), so it is cheap.
   bool second_effect = true;
+  /// Oracle, for validation on data whose effects are known (the blind
+  /// benchmark): the baseline plus these effects at these values (reported
+  /// units, effect_spec order: strength, wind_m_s, pitch_rate_deg_s, scale_error
+  /// and roll_deg), its RBF centre values and trims refitted with them on each
+  /// fold's training gliders, and the held-out gliders predicted as the
+  /// candidates' are (DiagnoseResult::oracle). What the baseline would predict
+  /// if the missing physics were known: the shrink a diagnosis can at best
+  /// reach with the wing-element model, against which a candidate's is
+  /// measured. Per-flight launch rotation: the value starts every flight's
+  /// rate, which is then fitted as a launch value. Empty: no oracle.
+  std::vector<std::pair<Effect, std::vector<double>>> oracle;
   int threads = 0;                ///< 0 = all cores
+};
+
+/// DiagnoseOptions::oracle from "EFFECT=V[:V2],..." (values in reported
+/// units, as in the diagnosis's "parameters"; e.g. "wind=-1,camera=0.03:2").
+/// Throws InputError naming what is wrong.
+std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::string& spec, const std::string& option);
+
+/// The oracle's result (DiagnoseOptions::oracle).
+struct OracleResult {
+  std::vector<std::pair<Effect, std::vector<double>>> effects;  ///< as given (reported units)
+  double holdout_rmse_m = 0;        ///< over every held-out point [m]
+  double shrink = 0;                ///< 1 - holdout_rmse_m / baseline holdout_rmse_m
+  double holdout_chi2_ratio = 0;    ///< SSE / (sigma^2 dof), dof as the baseline's
+  std::vector<double> fold_holdout_rmse_m, fold_baseline_holdout_rmse_m;
 };
 
 struct DiagnoseProgress {
@@ -186,6 +212,7 @@ struct DiagnoseResult {
   /// while the verdict's adds nothing given them: the same misfit, and these
   /// data cannot tell them from the verdict.
   std::vector<std::string> alternatives;
+  std::optional<OracleResult> oracle;  ///< when DiagnoseOptions::oracle is given
   std::string summary;           ///< plain-language summary
   nlohmann::json where;          ///< where the gap lies (phases, gliders, features, states, whiteness)
   nlohmann::json report;         ///< data of the report's plots (worst flights before/after, per glider)
