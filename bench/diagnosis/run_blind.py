@@ -105,7 +105,8 @@ def one(case, args, gl_dir):
     if not os.path.isfile(os.path.join(d, "data", "dataset.json")):
         run(gen, log)
     t = time.time()
-    oracle = ["--oracle", oracle_spec(case)] if oracle_spec(case) and args.oracle else []
+    spec = oracle_spec(case)
+    oracle = ["--oracle", spec] if spec and args.oracle else []
     run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG +
         ["--polish", str(args.polish)] + oracle, log)
     os.replace(res + ".tmp", res)
@@ -124,34 +125,33 @@ def one(case, args, gl_dir):
     return case, r
 
 
+# The diagnosis's parameters of each effect and their values at the reference
+# simulator's strength 1 (docs/reference_simulator.md: a 1 m/s headwind,
+# wind_m_s -1; launch rotation 60 deg/s; camera 3 % scale, 2 deg roll); the
+# aerodynamic effects: "strength", 1.
+NOMINAL = {"wind": [("wind_m_s", -1.0)], "launch_rotation": [("pitch_rate_deg_s", 60.0)],
+           "camera": [("scale_error", 0.03), ("roll_deg", 2.0)]}
+
+
+def nominal(e):
+    return NOMINAL.get(e, [("strength", 1.0)])
+
+
 def oracle_spec(case):
     """The diagnosis's --oracle for a case's truth: each true effect at its
     true strength in the diagnosis's parameter units (the inverse of
     strength_of; per-flight launch rotation: the nominal mean rate starts
     every flight's own rate, which is fitted). None for null data."""
-    parts = []
-    for e in case["truth"]:
-        k = case["strength"][e]
-        if e == "wind":
-            parts.append("wind=%g" % (-1.0 * k))
-        elif e == "launch_rotation":
-            parts.append("launch_rotation=%g" % (60.0 * k))
-        elif e == "camera":
-            parts.append("camera=%g:%g" % (0.03 * k, 2.0 * k))
-        else:
-            parts.append("%s=%g" % (e, k))
+    parts = ["%s=%s" % (e, ":".join("%g" % (case["strength"][e] * v) for _, v in nominal(e)))
+             for e in case["truth"]]
     return ",".join(parts) or None
 
 
 def strength_of(e, params):
-    """Fitted strength in the reference's units (strength 1 = nominal)."""
-    if e == "launch_rotation":
-        return params.get("pitch_rate_deg_s", 0.0) / 60.0
-    if e == "wind":
-        return -params.get("wind_m_s", 0.0) / 1.0
-    if e == "camera":
-        return params.get("scale_error", 0.0) / 0.03, params.get("roll_deg", 0.0) / 2.0
-    return params.get("strength", 0.0)
+    """Fitted strength in the reference's units (strength 1 = nominal); the
+    camera's as (scale, roll)."""
+    s = tuple(params.get(name, 0.0) / v for name, v in nominal(e))
+    return s if len(s) > 1 else s[0]
 
 
 MIN_SHRINK = 0.05  # the engine's default (DiagnoseOptions::min_shrink)

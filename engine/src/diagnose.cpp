@@ -181,6 +181,13 @@ int centre_count(const std::shared_ptr<const CoefficientModel>& m) {
   return r ? static_cast<int>(r->centres().size()) : 0;
 }
 
+/// Every RBF centre value of m (3 coefficients per centre) as free parameters.
+std::vector<FreeParam> centre_values(const std::shared_ptr<const CoefficientModel>& m) {
+  std::vector<FreeParam> out;
+  for (int k = 0; k < 3 * centre_count(m); ++k) out.push_back(FreeParam::coefficient(k));
+  return out;
+}
+
 }  // namespace
 
 namespace {
@@ -358,10 +365,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   };
 
   auto coefficient_params = [&](const std::shared_ptr<const CoefficientModel>& m) {
-    std::vector<FreeParam> out;
-    if (o.polish <= 0) return out;
-    for (int k = 0; k < 3 * centre_count(m); ++k) out.push_back(FreeParam::coefficient(k));
-    return out;
+    return o.polish > 0 ? centre_values(m) : std::vector<FreeParam>{};
   };
   // launch_rotation fitted per flight: no shared parameter (each flight's
   // rate is a launch value); its reported strength is the flights' mean rate.
@@ -700,7 +704,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   FitOutcome first_train;
   // The oracle's held-out error (DiagnoseOptions::oracle), summed over folds.
   double oracle_sse_ho = 0;
-  int oracle_n_ho = 0;
   std::vector<double> oracle_fold_rmse, oracle_fold_base_rmse;
   // Every fold's fits, kept for the second round (given the verdict's effect).
   std::vector<std::vector<int>> fold_train(K), fold_test(K);
@@ -783,8 +786,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         otr = settled(m, train, trims, &w);
       }
       if (centre_count(otr.model.coefficients) > 0) {
-        std::vector<FreeParam> free;
-        for (int c = 0; c < 3 * centre_count(otr.model.coefficients); ++c) free.push_back(FreeParam::coefficient(c));
+        std::vector<FreeParam> free = centre_values(otr.model.coefficients);
         free.insert(free.end(), trims.begin(), trims.end());
         const auto w2 = launches_of(otr);
         FitOutcome p = D.fit(otr.model, train, free, &w2);
@@ -797,10 +799,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         at.model = scaled(otr.model, static_cast<double>(k) / kSteps);
         oho = ho_fit_on(at, oho, test, ho_trims);
       }
-      int n = 0;
-      for (const auto& f : oho.flights) n += static_cast<int>(f.residual.size());
       oracle_sse_ho += oho.sse;
-      oracle_n_ho += n;
       oracle_fold_rmse.push_back(oho.rmse());
       oracle_fold_base_rmse.push_back(base_ho.rmse());
       report("fold", label + ": oracle (the baseline plus the known effects, centre values refitted): RMSE " +
@@ -903,10 +902,11 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   res.holdout_rmse_m = std::sqrt(sse0_ho / n_ho);
   res.holdout_chi2_ratio = sse0_ho / (s2 * dof_ho);
   res.noise_rmse_m = std::sqrt(s2 * dof_ho / n_ho);
-  if (!o.oracle.empty() && oracle_n_ho > 0) {
+  if (!o.oracle.empty()) {
+    // The oracle predicted the same held-out flights: n_ho points.
     OracleResult orc;
     orc.effects = o.oracle;
-    orc.holdout_rmse_m = std::sqrt(oracle_sse_ho / oracle_n_ho);
+    orc.holdout_rmse_m = std::sqrt(oracle_sse_ho / n_ho);
     orc.shrink = 1 - orc.holdout_rmse_m / res.holdout_rmse_m;
     orc.holdout_chi2_ratio = oracle_sse_ho / (s2 * dof_ho);
     orc.fold_holdout_rmse_m = oracle_fold_rmse;
@@ -1010,8 +1010,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     for (const auto& f : at.flights) at_flights.push_back(f.flight);
     std::vector<FreeParam> free = trims_of(D, at_flights, o.trim);
     const int nt = static_cast<int>(free.size());
-    const int nc = 3 * centre_count(at.model.coefficients);
-    for (int k = 0; k < nc; ++k) free.push_back(FreeParam::coefficient(k));
+    const auto centres = centre_values(at.model.coefficients);
+    const int nc = static_cast<int>(centres.size());
+    free.insert(free.end(), centres.begin(), centres.end());
     std::vector<int> col0(ne);
     for (int e = 0; e < ne; ++e) {
       col0[e] = static_cast<int>(free.size());
