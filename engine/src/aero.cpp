@@ -152,7 +152,7 @@ GliderForces MountedGlider::combine(std::size_t j, const WingCoefs& c, double q,
 
 GliderForces MountedGlider::wing_forces(std::size_t j, double v, double gamma) const {
   const double q = 0.5 * aero_->environment().air_density * v * v;
-  return combine(j, aero_->table(j).lookup(v, gamma + theta_[j]), q, gamma);
+  return combine(j, aero_->table(j).lookup(v, wrap_angle(gamma + theta_[j])), q, gamma);
 }
 
 GliderForces MountedGlider::forces(double v, double gamma) const {
@@ -162,7 +162,7 @@ GliderForces MountedGlider::forces(double v, double gamma) const {
   // Every wing's table has the same speed grid: interpolation weights once.
   const WingTable::SpeedWeights sw = aero_->table(0).speed_weights(v);
   for (std::size_t j = 0; j < theta_.size(); ++j) {
-    const WingCoefs w = aero_->table(j).lookup(sw, gamma + theta_[j]);
+    const WingCoefs w = aero_->table(j).lookup(sw, wrap_angle(gamma + theta_[j]));
     const double fd = q * w.drag, fl = q * w.lift;
     const double px = c * arm_[j].x - s * arm_[j].y, py = s * arm_[j].x + c * arm_[j].y;
     f.drag += fd;
@@ -177,7 +177,7 @@ GliderForces MountedGlider::forces_direct(double v, double gamma) const {
   GliderForces f;
   for (std::size_t j = 0; j < theta_.size(); ++j) {
     const WingCoefs c =
-        wing_coefs_direct(aero_->elements(j), aero_->model(), aero_->environment(), v, gamma + theta_[j]);
+        wing_coefs_direct(aero_->elements(j), aero_->model(), aero_->environment(), v, wrap_angle(gamma + theta_[j]));
     const GliderForces w = combine(j, c, q, gamma);
     f.drag += w.drag;
     f.lift += w.lift;
@@ -188,7 +188,7 @@ GliderForces MountedGlider::forces_direct(double v, double gamma) const {
 
 double MountedGlider::max_wing_alpha(double gamma) const {
   double m = 0;
-  for (double th : theta_) m = std::max(m, std::abs(gamma + th));
+  for (double th : theta_) m = std::max(m, std::abs(wrap_angle(gamma + th)));
   return m;
 }
 

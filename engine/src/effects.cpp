@@ -52,14 +52,7 @@ const std::vector<EffectSpec>& specs() {
   return s;
 }
 
-inline double wrap(double a) {
-  if (a > kPi || a <= -kPi) {
-    a = std::fmod(a + kPi, 2 * kPi);
-    if (a < 0) a += 2 * kPi;
-    a -= kPi;
-  }
-  return a;
-}
+inline double wrap(double a) { return wrap_angle(a); }
 
 using V3 = std::array<double, 3>;
 inline V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }

@@ -9,14 +9,7 @@ namespace pteromys {
 
 namespace {
 
-inline double wrap(double a) {
-  if (a > kPi || a <= -kPi) {  // rare: only after a loop
-    a = std::fmod(a + kPi, 2 * kPi);
-    if (a < 0) a += 2 * kPi;
-    a -= kPi;
-  }
-  return a;
-}
+inline double wrap(double a) { return wrap_angle(a); }
 
 struct Deriv {
   Vec2 a;

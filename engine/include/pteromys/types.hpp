@@ -14,6 +14,15 @@ namespace pteromys {
 constexpr double kPi = 3.14159265358979323846;
 inline constexpr double deg2rad(double d) { return d * kPi / 180.0; }
 inline constexpr double rad2deg(double r) { return r * 180.0 / kPi; }
+/// An angle wrapped to (-pi, pi] [rad].
+inline double wrap_angle(double a) {
+  if (a > kPi || a <= -kPi) {  // rare: only after a loop
+    a = std::fmod(a + kPi, 2 * kPi);
+    if (a < 0) a += 2 * kPi;
+    a -= kPi;
+  }
+  return a;
+}
 
 /// A point or vector in a plane. In the glider frame (x toward the nose, y up);
 /// in a wing's own plane the second coordinate is the span coordinate z.
