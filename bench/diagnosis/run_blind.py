@@ -108,12 +108,13 @@ def one(case, args, gl_dir):
     spec = oracle_spec(case)
     oracle = ["--oracle", spec] if spec and args.oracle else []
     run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG +
-        ["--polish", str(args.polish)] + oracle, log)
+        ["--polish", str(args.polish)] + (["--profile"] if args.profile else []) + oracle, log)
     os.replace(res + ".tmp", res)
     with open(res) as f:
         r = json.load(f)
     r.setdefault("timings", {})["wall_s"] = time.time() - t
     r["bench_polish"] = args.polish
+    r["bench_profile"] = bool(args.profile)
     commit = os.path.join(args.build, "COMMIT")  # a frozen copy of the binary says which commit it was built from
     if os.path.isfile(commit):
         r["bench_commit"] = open(commit).read().strip()
@@ -389,6 +390,9 @@ def main():
                          "noise floor then stands in for it")
     ap.add_argument("--polish", type=int, default=9,
                     help="candidates refitted with the coefficients (9: all, the protocol; 0: the diagnosis default)")
+    ap.add_argument("--profile", action="store_true",
+                    help="pass --profile (with --polish 0: the candidates that gain most with re-tuned centre values "
+                         "are refitted jointly with them)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     gl_dir = os.path.join(args.out, "gliders")

@@ -111,7 +111,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle"};
   const Args a = parse_args(argv, valued,
-                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round"});
+                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round", "--profile"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -133,6 +133,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.full_fit = !a.flag("--no-full-fit");
   o.holdout_chi2_test = !a.flag("--no-holdout-test");
   o.second_effect = !a.flag("--no-second-round");
+  o.profile = a.flag("--profile");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);

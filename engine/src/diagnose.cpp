@@ -415,9 +415,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // then the `polish` candidates that gained most refitted with the coefficients.
   // `extra`: parameters freed with every candidate's (the second round: the
   // verdict's effect's strengths); such fits are not polished.
+  // `profiled`: per candidate, a start from the linearised step on its
+  // strengths and the centre values (DiagnoseOptions::profile; none where
+  // the start's coefficients are null).
+  constexpr int kProfileIterations = 0;  // Levenberg-Marquardt iterations of a profiled candidate's joint refit (0: as every fit)
   auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                          bool counted = true, std::vector<int> which = {}, const std::vector<FreeParam>& extra = {},
-                         bool conditional = false) {
+                         bool conditional = false, const std::vector<DiagModel>* profiled = nullptr) {
     std::vector<FitOutcome> out(ne);
     const auto warm = launches_of(base);
     const auto trims = trims_of(D, flights, o.trim);
@@ -465,6 +469,22 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       }
       out[e] = settled(start, flights, free, &start_launches);
       mean_rate(out[e]);
+      if (profiled && (*profiled)[e].coefficients) {
+        FitOutcome p = settled((*profiled)[e], flights, free, &warm);
+        // One step is not the joint optimum (pitch damping on flights of
+        // the model with it at full size: strength 0.33 after the step, 0.95
+        // polished): a short joint refit with the centre values follows.
+        auto joint = centre_values(p.model.coefficients);
+        joint.insert(joint.end(), free.begin(), free.end());
+        const auto wp = launches_of(p);
+        FitOutcome q = D.fit(p.model, flights, joint, &wp, kProfileIterations);
+        if (q.sse < p.sse) p = std::move(q);
+        mean_rate(p);
+        report("effect", label + ": " + effect_name(o.effects[e]) + " from the linearised step with the centre values (" +
+                             describe_parameters(o.effects[e], effect_values(p.model.effects, o.effects[e])) +
+                             "): RMSE " + cm(p.rmse()) + (p.sse < out[e].sse ? " (kept)" : ""), false);
+        if (p.sse < out[e].sse) out[e] = std::move(p);
+      }
       report("effect", label + ": " + effect_name(o.effects[e]) + " (" +
                            describe_parameters(o.effects[e], effect_values(out[e].model.effects, o.effects[e])) +
                            "): RMSE " + cm(out[e].rmse()) + " (baseline " + cm(base.rmse()) + ")", counted);
@@ -571,14 +591,116 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     }
     return improved;
   };
+  // DiagnoseOptions::profile: one projected Jacobian at the baseline on the
+  // trims, the centre values and every candidate's strengths; the baseline
+  // takes the regularised step on the trims and centre values (kept when its
+  // refitted launches and trims fit better), every candidate's start is the
+  // step with its strengths as well.
+  auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label) {
+    const auto trims = trims_of(D, flights, o.trim);
+    std::vector<FreeParam> free = trims;
+    const auto centres = centre_values(base.model.coefficients);
+    free.insert(free.end(), centres.begin(), centres.end());
+    std::vector<int> base_cols(free.size());
+    std::iota(base_cols.begin(), base_cols.end(), 0);
+    std::vector<std::vector<int>> cols(ne);
+    for (int e = 0; e < ne; ++e) {
+      if (per_flight(o.effects[e])) continue;  // no shared strength to step
+      for (const auto& p : params_of(o.effects[e])) {
+        cols[e].push_back(static_cast<int>(free.size()));
+        free.push_back(p);
+      }
+    }
+    const Eigen::MatrixXd J = D.projected_jacobian(base, free);
+    double sse_base = 0;
+    const DiagModel stepped = D.linear_step(base, free, J, base_cols, &sse_base);
+    // Only candidates whose linearised gain over the baseline's step passes
+    // the likelihood-ratio threshold are refitted from their step (the fits
+    // cost about as much as the fixed-coefficient ones), at most kProfiled,
+    // the largest gains first.
+    constexpr int kProfiled = 3;
+    std::vector<DiagModel> starts(ne);
+    std::vector<std::pair<double, int>> gains;
+    for (int e = 0; e < ne; ++e) {
+      if (cols[e].empty()) continue;
+      std::vector<int> c = base_cols;
+      c.insert(c.end(), cols[e].begin(), cols[e].end());
+      double sse_e = 0;
+      starts[e] = D.linear_step(base, free, J, c, &sse_e);
+      const double gain = (sse_base - sse_e) / s2_noise;
+      if (gain > chi2_isf(o.alpha / ne, static_cast<double>(cols[e].size()))) gains.push_back({gain, e});
+    }
+    std::sort(gains.rbegin(), gains.rend());
+    std::vector<bool> keep(ne, false);
+    std::string kept;
+    for (int i = 0; i < std::min<int>(kProfiled, static_cast<int>(gains.size())); ++i) {
+      keep[gains[i].second] = true;
+      kept += (kept.empty() ? "" : ", ") + effect_name(o.effects[gains[i].second]) + " (linearised delta chi2 " +
+              fmt(gains[i].first, 3) + ")";
+    }
+    for (int e = 0; e < ne; ++e)
+      if (!keep[e]) starts[e] = DiagModel{};
+    report("baseline", label + ": candidates refitted from the linearised step with the centre values: " +
+                           (kept.empty() ? std::string("none passes the threshold") : kept), false);
+    const auto w = launches_of(base);
+    FitOutcome n = settled(stepped, flights, trims, &w);
+    const bool better = n.sse < base.sse - 0.2 * s2_noise;
+    report("baseline", label + ": baseline from the linearised step on its centre values and trims: RMSE " + cm(n.rmse()) +
+                           " (was " + cm(base.rmse()) + (better ? "; kept)" : ")"), false);
+    if (better) base = std::move(n);
+    return starts;
+  };
+  // The same check as improve_polished_baseline for the profiled starts: a
+  // candidate that fits better with its re-tuned centre values hands them to
+  // the baseline at strength 0 (launches and trims refitted), kept when the
+  // baseline then fits better, so that only what the centre values cannot do
+  // is credited to the effect.
+  auto improve_profiled_baseline = [&](FitOutcome& base, const std::vector<FitOutcome>& others,
+                                       const std::vector<int>& flights, const std::string& label,
+                                       const std::shared_ptr<const CoefficientModel>& fixed) {
+    const auto trims = trims_of(D, flights, o.trim);
+    bool improved = false;
+    std::vector<int> order(others.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return others[a].sse < others[b].sse; });
+    for (int e : order) {
+      const auto& other = others[e];
+      // Fixed coefficients (the baseline's, or those from before its step).
+      if (other.model.coefficients == base.model.coefficients || other.model.coefficients == fixed) continue;
+      if (!(other.sse < base.sse - 0.2 * s2_noise)) continue;
+      const DiagModel m{other.model.coefficients, {}, other.model.trim};
+      const auto w = launches_of(other);
+      FitOutcome n = settled(m, flights, trims, &w);
+      const bool better = n.sse < base.sse - 0.2 * s2_noise;
+      report("baseline", label + ": baseline at " + effect_name(o.effects[e]) +
+                             "'s re-tuned centre values, strength 0: RMSE " + cm(n.rmse()) + " (baseline " +
+                             cm(base.rmse()) + (better ? "; kept)" : ")"), false);
+      if (better) {
+        base = std::move(n);
+        improved = true;
+      }
+    }
+    return improved;
+  };
   auto fit_effects_from = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label) {
-    std::vector<FitOutcome> out = fit_effects(base, flights, label);
+    const bool profiled = o.profile && o.polish <= 0 && centre_count(base.model.coefficients) > 0;
+    // The fixed-coefficient fits keep the coefficients the baseline had
+    // before its own linearised step: re-tuned at strength 0, the centre
+    // values absorb more of an effect (pitch damping on flights of the model
+    // with it at full size: strength 0.33 instead of 1.0 from the stepped
+    // baseline's coefficients). The candidates are compared with the better
+    // baseline all the same.
+    const FitOutcome before = base;
+    std::vector<DiagModel> starts;
+    if (profiled) starts = profile_starts(base, flights, label);
+    std::vector<FitOutcome> out = fit_effects(before, flights, label, true, {}, {}, false, profiled ? &starts : nullptr);
     // Until the baseline stops improving (at most three rounds): a refitted
     // candidate can find yet another basin of centre values.
     const int rounds = o.polish > 0 ? 3 : 1;  // basins of centre values exist only when they are fitted
     for (int round = 0; round < rounds; ++round) {
       const bool launches_better = improve_baseline(base, out, flights);
-      const bool coefficients_better = improve_polished_baseline(base, out, flights, label);
+      const bool coefficients_better = o.polish > 0 ? improve_polished_baseline(base, out, flights, label)
+                                                    : profiled && improve_profiled_baseline(base, out, flights, label, before.model.coefficients);
       if (!launches_better && !coefficients_better) break;
       report("baseline", label + ": baseline refitted from the candidates' launches" +
                              std::string(coefficients_better ? " and centre values" : "") + ": RMSE " + cm(base.rmse()) +
@@ -865,7 +987,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       train_dsse[e] += base_tr.sse - tr.sse;
       for (std::size_t i = 0; i < test.size(); ++i) res.heldout[test[i]].effects[e] = ho.flights[i];
       report("effect", label + ": " + effect_name(E) + " (" + describe_parameters(E, fold_params[e].back()) +
-                           (tr.free_parameters > 20 || tr.model.coefficients != base_tr.model.coefficients ? ", polished" : "") +
+                           (tr.free_parameters > 20 || (tr.model.coefficients != base_tr.model.coefficients &&
+                                                       tr.model.coefficients != coefficients_before)
+                                ? ", polished"
+                                : "") +
                            "): held-out RMSE " + cm(ho.rmse()) + " (baseline " + cm(base_ho.rmse()) + ")", false);
     }
   }

@@ -416,7 +416,9 @@ bool touches(const FreeParam& p, int g) { return p.kind != FreeParam::Trim || p.
 }  // namespace
 
 FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& flights,
-                              const std::vector<FreeParam>& free, const std::vector<LaunchParams>* warm) const {
+                              const std::vector<FreeParam>& free, const std::vector<LaunchParams>* warm,
+                              int max_iterations) const {
+  const int iterations_max = max_iterations > 0 ? max_iterations : o_.max_iterations;
   if (flights.empty()) throw InputError("no flights to fit");
   if (!start.coefficients) throw InputError("no coefficient model");
   FitContext C(*this, *impl_, flights);
@@ -465,7 +467,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
   if (np > 0) {
     double lambda = 1e-3;
     int refreshed = 0;
-    for (int it = 0; it < o_.max_iterations; ++it) {
+    for (int it = 0; it < iterations_max; ++it) {
       // Perturbed setups, one per free parameter.
       std::vector<std::unique_ptr<Setup>> Sp(np);
       std::vector<double> h(np);
@@ -580,7 +582,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
             // iterating if that changed the fit noticeably.
             const double before = sse;
             sse = C.refresh(*S, L, lr, R);
-            if (!(before - sse > 0.2 * s2) || refreshed >= 2) it = o_.max_iterations;
+            if (!(before - sse > 0.2 * s2) || refreshed >= 2) it = iterations_max;
             ++refreshed;
           }
         } else {
@@ -683,6 +685,72 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
     J.middleRows(offset[f], m) = JT - Q * (Q.transpose() * JT);
   });
   return J;
+}
+
+DiagModel DiagnosisData::linear_step(const FitOutcome& at, const std::vector<FreeParam>& free,
+                                     const Eigen::MatrixXd& J, const std::vector<int>& cols,
+                                     double* predicted_sse) const {
+  const int np = static_cast<int>(free.size());
+  int m = 0;
+  for (const auto& f : at.flights) m += 2 * static_cast<int>(f.residual.size());
+  if (J.rows() != m || J.cols() != np) throw InputError("linear step: the Jacobian does not match the fit and its parameters");
+  Eigen::VectorXd r(m);
+  int k = 0;
+  for (const auto& f : at.flights)
+    for (const auto& v : f.residual) {
+      r(k++) = v.x;
+      r(k++) = v.y;
+    }
+  int nc = 0;
+  for (int c : cols) {
+    if (c < 0 || c >= np) throw InputError("linear step: parameter index out of range");
+    nc += free[c].kind == FreeParam::Coefficient ? 1 : 0;
+  }
+  // [J; reg I] theta = [-r; 0] (the pull rows only for centre values).
+  const double reg = o_.coefficient_regularisation_m;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(m + nc, static_cast<int>(cols.size()));
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(m + nc);
+  y.head(m) = -r;
+  int row = m;
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    A.col(static_cast<int>(j)).head(m) = J.col(cols[j]);
+    if (free[cols[j]].kind == FreeParam::Coefficient) A(row++, static_cast<int>(j)) = reg;
+  }
+  Eigen::VectorXd th = A.colPivHouseholderQr().solve(y);
+  if (!th.allFinite()) th.setZero();
+  if (predicted_sse) *predicted_sse = (A.topRows(m) * th - y.head(m)).squaredNorm();
+  DiagModel model = at.model;
+  if (model.trim.size() < gliders_.size()) model.trim.resize(gliders_.size(), 0.0);
+  std::vector<double> u;
+  std::shared_ptr<const RbfModel> rbf;
+  if (nc > 0) {
+    rbf = std::dynamic_pointer_cast<const RbfModel>(model.coefficients);
+    if (!rbf) throw InputError("coefficient parameters need an RBF model");
+    u.assign(3 * rbf->centres().size(), 0.0);
+  }
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    const FreeParam& p = free[cols[j]];
+    if (p.kind == FreeParam::Coefficient) {
+      if (p.index < 0 || p.index >= static_cast<int>(u.size())) throw InputError("coefficient parameter out of range");
+      u[p.index] += th(static_cast<int>(j));
+      continue;
+    }
+    double lo, hi;
+    bounds_of(p, lo, hi);
+    const double v = get_param(model, p, u) + th(static_cast<int>(j)) * scale(p);
+    set_param(model, p, u, std::clamp(v, lo, hi));
+  }
+  if (rbf) {
+    std::vector<Coefficients> v;
+    for (const auto& c : rbf->centres()) v.push_back(c.value);
+    for (std::size_t c = 0; c < v.size(); ++c) {
+      v[c].cd = std::max(0.0, v[c].cd + kCoefScale[0] * u[3 * c]);
+      v[c].cl += kCoefScale[1] * u[3 * c + 1];
+      v[c].cm += kCoefScale[2] * u[3 * c + 2];
+    }
+    model.coefficients = rbf->with_values(v);
+  }
+  return model;
 }
 
 }  // namespace pteromys

@@ -117,14 +117,25 @@ class DiagnosisData {
   /// Fits the free parameters of `start` (and every flight's launch) to the
   /// flights `flights` (indices into Dataset::flights). `warm`: launches to
   /// start from (same order as `flights`); otherwise multi-start launch fits.
+  /// `max_iterations` > 0 overrides DiagFitOptions::max_iterations.
   FitOutcome fit(const DiagModel& start, const std::vector<int>& flights, const std::vector<FreeParam>& free,
-                 const std::vector<LaunchParams>* warm = nullptr) const;
+                 const std::vector<LaunchParams>* warm = nullptr, int max_iterations = 0) const;
 
   /// Stacked residual Jacobian (2 x points of `flights` rows, one column per
   /// free parameter, in units of the parameter's scale) at the model and
   /// launches of `at`, each flight's block projected onto the complement of
   /// its launch Jacobian: what the parameters can change that no launch can.
   Eigen::MatrixXd projected_jacobian(const FitOutcome& at, const std::vector<FreeParam>& free) const;
+
+  /// One regularised Gauss-Newton step from `at` on the free parameters
+  /// `free[cols]` (launches projected out): the least-squares solution of
+  /// the residuals linearised by J = projected_jacobian(at, free), the
+  /// centre values pulled toward `at`'s as fit() pulls them. The model moved
+  /// by that step (effect strengths and trims clamped to their bounds, drag
+  /// at the centres kept >= 0); `predicted_sse`: the linearised SSE after it
+  /// (without the pull). Throws InputError on a J of the wrong shape.
+  DiagModel linear_step(const FitOutcome& at, const std::vector<FreeParam>& free, const Eigen::MatrixXd& J,
+                        const std::vector<int>& cols, double* predicted_sse = nullptr) const;
 
   /// Scale of a free parameter in the solver (natural units).
   double scale(const FreeParam& p) const;
