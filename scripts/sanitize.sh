@@ -29,7 +29,10 @@ echo "sanitize: build $((t1 - t0)) s"
 # under ASan at -O1 it took 10 minutes on the loaded 2-core CI machine, while
 # the whole pipeline (fits, folds, tests, verdict, JSON) runs sanitized in the
 # small Diagnose.FlightsOfTheBaselineModelLeaveNoGap and the DiagnosisFit tests.
-EXCLUDE='^(CaptureTrack\.ManualCorrectionsReplaceAddAndRemovePoints|Diagnose\.FindsTheCorrectionThatMadeTheFlights)$'
+# The same for the profiled diagnosis (--profile, two minutes in Release): its
+# path runs sanitized in FlightsOfTheBaselineModelLeaveNoGap's second half and
+# the DiagnosisFit.LinearStep tests.
+EXCLUDE='^(CaptureTrack\.ManualCorrectionsReplaceAddAndRemovePoints|Diagnose\.FindsTheCorrectionThatMadeTheFlights|Diagnose\.ProfiledStartsFitTheTrueCorrectionToTheNoise)$'
 (cd "$B" && ctest --output-on-failure -j"$(nproc)" --timeout 1800 -E "$EXCLUDE")
 t2=$(date +%s)
 echo "sanitize: engine tests and fuzz replays under ASan+UBSan+LSan $((t2 - t1)) s"

@@ -286,6 +286,15 @@ TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
   EXPECT_TRUE(j.at("baseline").contains("holdout_rmse_m"));
   for (const auto& e : j.at("effects"))
     for (const char* k : {"name", "holdout_rmse_m", "shrink", "significant"}) EXPECT_TRUE(e.contains(k)) << k;
+  // With profiled starts (the baseline's linearised step, the candidates'
+  // linearised gains): still no gap and nothing significant. Small enough
+  // that the profiled path also runs under the sanitizers.
+  DiagnoseOptions op = o;
+  op.profile = true;
+  const DiagnoseResult rp = diagnose(d, op);
+  EXPECT_EQ(rp.verdict, "none") << rp.summary;
+  EXPECT_LT(rp.holdout_chi2_ratio, 1.3) << rp.summary;
+  for (const auto& e : rp.effects) EXPECT_FALSE(e.significant) << e.name;
 }
 
 // The whole diagnosis on flights of the corrected model itself (pitch damping
