@@ -1583,6 +1583,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"max_centres", o.fit.max_centres},
                   {"full_fit", o.full_fit},
                   {"polish", o.polish},
+                  {"profile", o.profile},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
   j["timings"] = r.timings;
