@@ -554,9 +554,18 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // of the training error). That gain belongs to the coefficients, not to
   // the effect: the baseline is refitted from every such candidate's centre
   // values and trims with its strength at zero, and kept when it is better.
-  auto improve_polished_baseline = [&](FitOutcome& base, const std::vector<FitOutcome>& others,
-                                       const std::vector<int>& flights, const std::string& label) {
-    if (o.polish <= 0 || centre_count(base.model.coefficients) == 0) return false;
+  // The same for the profiled starts (DiagnoseOptions::profile): their
+  // candidates' re-tuned centre values go to the baseline at strength 0 with
+  // its launches and trims refitted (not the centre values: a profiled
+  // diagnosis does not polish its baseline), so that only what the centre
+  // values cannot do is credited to the effect. `fixed`: coefficients of
+  // fits that did not re-tune them besides the baseline's (profiled: those
+  // from before the baseline's own step; polished: none).
+  auto improve_coefficient_baseline = [&](FitOutcome& base, const std::vector<FitOutcome>& others,
+                                          const std::vector<int>& flights, const std::string& label,
+                                          const std::shared_ptr<const CoefficientModel>& fixed) {
+    const bool polished = o.polish > 0;
+    if (centre_count(base.model.coefficients) == 0) return false;
     const auto trims = trims_of(D, flights, o.trim);
     bool improved = false;
     std::vector<int> order(others.size());
@@ -564,10 +573,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     std::sort(order.begin(), order.end(), [&](int a, int b) { return others[a].sse < others[b].sse; });
     for (int e : order) {
       const auto& other = others[e];
-      if (other.model.coefficients == base.model.coefficients) continue;  // not polished
+      // Fixed coefficients: not polished, or not re-tuned by a profiled start.
+      if (other.model.coefficients == base.model.coefficients || other.model.coefficients == fixed) continue;
       if (!(other.sse < base.sse - 0.2 * s2_noise)) continue;
       const auto v = effect_values(other.model.effects, o.effects[e]);
-      if (!per_flight(o.effects[e]) && std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0; })) {
+      if (polished && !per_flight(o.effects[e]) &&
+          std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0; })) {
         // At strength 0 the candidate's fit is a baseline fit.
         report("baseline", label + ": " + effect_name(o.effects[e]) + " at strength 0 with its own centre values: RMSE " +
                                cm(other.rmse()) + " (baseline " + cm(base.rmse()) + "; kept)", false);
@@ -575,15 +586,22 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         improved = true;
         continue;
       }
-      auto free = coefficient_params(other.model.coefficients);
-      free.insert(free.end(), trims.begin(), trims.end());
       const DiagModel m{other.model.coefficients, {}, other.model.trim};
       const auto w = launches_of(other);
-      FitOutcome n = D.fit(m, flights, free, &w);
+      FitOutcome n;
+      if (polished) {
+        auto free = coefficient_params(other.model.coefficients);
+        free.insert(free.end(), trims.begin(), trims.end());
+        n = D.fit(m, flights, free, &w);
+      } else {
+        n = settled(m, flights, trims, &w);
+      }
       const bool better = n.sse < base.sse - 0.2 * s2_noise;
-      report("baseline", label + ": baseline refitted from " + effect_name(o.effects[e]) +
-                             "'s centre values at strength 0: RMSE " + cm(n.rmse()) + " (baseline " + cm(base.rmse()) +
-                             (better ? "; kept)" : ")"), false);
+      report("baseline", label + (polished ? ": baseline refitted from " + effect_name(o.effects[e]) +
+                                                 "'s centre values at strength 0: RMSE "
+                                           : ": baseline at " + effect_name(o.effects[e]) +
+                                                 "'s re-tuned centre values, strength 0: RMSE ") +
+                             cm(n.rmse()) + " (baseline " + cm(base.rmse()) + (better ? "; kept)" : ")"), false);
       if (better) {
         base = std::move(n);
         improved = true;
@@ -650,38 +668,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     if (better) base = std::move(n);
     return starts;
   };
-  // The same check as improve_polished_baseline for the profiled starts: a
-  // candidate that fits better with its re-tuned centre values hands them to
-  // the baseline at strength 0 (launches and trims refitted), kept when the
-  // baseline then fits better, so that only what the centre values cannot do
-  // is credited to the effect.
-  auto improve_profiled_baseline = [&](FitOutcome& base, const std::vector<FitOutcome>& others,
-                                       const std::vector<int>& flights, const std::string& label,
-                                       const std::shared_ptr<const CoefficientModel>& fixed) {
-    const auto trims = trims_of(D, flights, o.trim);
-    bool improved = false;
-    std::vector<int> order(others.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return others[a].sse < others[b].sse; });
-    for (int e : order) {
-      const auto& other = others[e];
-      // Fixed coefficients (the baseline's, or those from before its step).
-      if (other.model.coefficients == base.model.coefficients || other.model.coefficients == fixed) continue;
-      if (!(other.sse < base.sse - 0.2 * s2_noise)) continue;
-      const DiagModel m{other.model.coefficients, {}, other.model.trim};
-      const auto w = launches_of(other);
-      FitOutcome n = settled(m, flights, trims, &w);
-      const bool better = n.sse < base.sse - 0.2 * s2_noise;
-      report("baseline", label + ": baseline at " + effect_name(o.effects[e]) +
-                             "'s re-tuned centre values, strength 0: RMSE " + cm(n.rmse()) + " (baseline " +
-                             cm(base.rmse()) + (better ? "; kept)" : ")"), false);
-      if (better) {
-        base = std::move(n);
-        improved = true;
-      }
-    }
-    return improved;
-  };
   auto fit_effects_from = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label) {
     const bool profiled = o.profile && o.polish <= 0 && centre_count(base.model.coefficients) > 0;
     // The fixed-coefficient fits keep the coefficients the baseline had
@@ -699,8 +685,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     const int rounds = o.polish > 0 ? 3 : 1;  // basins of centre values exist only when they are fitted
     for (int round = 0; round < rounds; ++round) {
       const bool launches_better = improve_baseline(base, out, flights);
-      const bool coefficients_better = o.polish > 0 ? improve_polished_baseline(base, out, flights, label)
-                                                    : profiled && improve_profiled_baseline(base, out, flights, label, before.model.coefficients);
+      const bool coefficients_better =
+          (o.polish > 0 || profiled) &&
+          improve_coefficient_baseline(base, out, flights, label, profiled ? before.model.coefficients : nullptr);
       if (!launches_better && !coefficients_better) break;
       report("baseline", label + ": baseline refitted from the candidates' launches" +
                              std::string(coefficients_better ? " and centre values" : "") + ": RMSE " + cm(base.rmse()) +

@@ -52,6 +52,18 @@ constexpr double kCoefScale[3] = {0.02, 0.1, 0.02};  // cd, cl, cm (as fit.cpp)
 constexpr double kHeightOffset = 1000.0;              // flights are simulated this high (no ground cut)
 constexpr int kLaunchParams = 5;                      // x, y, speed, climb, pitch (+ pitch rate per flight)
 
+/// `rbf` with its centre values `values0` moved by `u` (3 per centre: cd, cl,
+/// cm in kCoefScale units; drag kept >= 0).
+std::shared_ptr<const CoefficientModel> moved_values(const RbfModel& rbf, std::vector<Coefficients> v,
+                                                     const std::vector<double>& u) {
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    v[k].cd = std::max(0.0, v[k].cd + kCoefScale[0] * u[3 * k]);
+    v[k].cl += kCoefScale[1] * u[3 * k + 1];
+    v[k].cm += kCoefScale[2] * u[3 * k + 2];
+  }
+  return rbf.with_values(v);
+}
+
 /// Fitted values of one launch: 5, or 6 when launch_rotation is a launch parameter.
 int launch_count(const EffectValues& ev) { return ev.launch_rotation_per_flight ? kLaunchParams + 1 : kLaunchParams; }
 
@@ -102,13 +114,7 @@ struct FitContext {
 
   std::shared_ptr<const CoefficientModel> coefficients_of(const DiagModel& m, const std::vector<double>& u) const {
     if (!rbf || u.empty()) return m.coefficients;
-    std::vector<Coefficients> v = values0;
-    for (std::size_t k = 0; k < v.size(); ++k) {
-      v[k].cd = std::max(0.0, v[k].cd + kCoefScale[0] * u[3 * k]);
-      v[k].cl += kCoefScale[1] * u[3 * k + 1];
-      v[k].cm += kCoefScale[2] * u[3 * k + 2];
-    }
-    return rbf->with_values(v);
+    return moved_values(*rbf, values0, u);
   }
 
   std::vector<std::shared_ptr<const GliderAero>> tables(const std::shared_ptr<const CoefficientModel>& m) const {
@@ -743,12 +749,7 @@ DiagModel DiagnosisData::linear_step(const FitOutcome& at, const std::vector<Fre
   if (rbf) {
     std::vector<Coefficients> v;
     for (const auto& c : rbf->centres()) v.push_back(c.value);
-    for (std::size_t c = 0; c < v.size(); ++c) {
-      v[c].cd = std::max(0.0, v[c].cd + kCoefScale[0] * u[3 * c]);
-      v[c].cl += kCoefScale[1] * u[3 * c + 1];
-      v[c].cm += kCoefScale[2] * u[3 * c + 2];
-    }
-    model.coefficients = rbf->with_values(v);
+    model.coefficients = moved_values(*rbf, v, u);
   }
   return model;
 }
