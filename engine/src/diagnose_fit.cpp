@@ -695,8 +695,9 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
 
 DiagModel DiagnosisData::linear_step(const FitOutcome& at, const std::vector<FreeParam>& free,
                                      const Eigen::MatrixXd& J, const std::vector<int>& cols,
-                                     double* predicted_sse) const {
+                                     double* predicted_sse, double fraction) const {
   const int np = static_cast<int>(free.size());
+  if (!(fraction > 0 && fraction <= 1)) throw InputError("linear step: the fraction of the step must be in (0, 1]");
   int m = 0;
   for (const auto& f : at.flights) m += 2 * static_cast<int>(f.residual.size());
   if (J.rows() != m || J.cols() != np) throw InputError("linear step: the Jacobian does not match the fit and its parameters");
@@ -724,6 +725,7 @@ DiagModel DiagnosisData::linear_step(const FitOutcome& at, const std::vector<Fre
   }
   Eigen::VectorXd th = A.colPivHouseholderQr().solve(y);
   if (!th.allFinite()) th.setZero();
+  th *= fraction;
   if (predicted_sse) *predicted_sse = (A.topRows(m) * th - y.head(m)).squaredNorm();
   DiagModel model = at.model;
   if (model.trim.size() < gliders_.size()) model.trim.resize(gliders_.size(), 0.0);

@@ -188,7 +188,8 @@ TEST(DiagnosisFit, RecoversCameraScaleAndRollWithinTheirUncertainty) {
 // candidates): a camera error is nearly linear in the recorded positions, so
 // one Gauss-Newton step from the baseline's launch fit lands within a few
 // percent of the true scale and roll of exact flights; the linearised SSE it
-// predicts is below the start's. A Jacobian of the wrong shape is refused.
+// predicts is below the start's; a damped step goes part of the way. A
+// Jacobian of the wrong shape and a fraction outside (0, 1] are refused.
 TEST(DiagnosisFit, LinearStepFindsANearlyLinearCameraError) {
   EffectValues truth;
   truth.camera_scale = 0.02;
@@ -207,8 +208,18 @@ TEST(DiagnosisFit, LinearStepFindsANearlyLinearCameraError) {
   EXPECT_LT(predicted, 0.1 * at.sse);
   const FitOutcome after = D.fit(m, all_flights(d), {});
   EXPECT_LT(after.sse, 0.05 * at.sse);
+  // Half the step moves the strengths half as far; the linearised SSE at a
+  // fraction t of the least-squares step is |r|^2 - (2t - t^2) |P r|^2, at
+  // t = 1/2 the start's less 3/4 of the full step's gain.
+  double predicted_half = -1;
+  const DiagModel h = D.linear_step(at, free, J, {0, 1}, &predicted_half, 0.5);
+  EXPECT_NEAR(h.effects.camera_scale, 0.5 * m.effects.camera_scale, 1e-12);
+  EXPECT_NEAR(h.effects.camera_roll, 0.5 * m.effects.camera_roll, 1e-12);
+  EXPECT_NEAR(predicted_half, at.sse - 0.75 * (at.sse - predicted), 1e-9 * at.sse);
   EXPECT_THROW(D.linear_step(at, free, J.leftCols(1), {0}), InputError);
   EXPECT_THROW(D.linear_step(at, free, J, {2}), InputError);
+  EXPECT_THROW(D.linear_step(at, free, J, {0, 1}, nullptr, 0.0), InputError);
+  EXPECT_THROW(D.linear_step(at, free, J, {0, 1}, nullptr, 1.5), InputError);
 }
 
 // The same step on the RBF centre values: a model whose values were moved

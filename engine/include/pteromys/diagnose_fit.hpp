@@ -133,9 +133,12 @@ class DiagnosisData {
   /// centre values pulled toward `at`'s as fit() pulls them. The model moved
   /// by that step (effect strengths and trims clamped to their bounds, drag
   /// at the centres kept >= 0); `predicted_sse`: the linearised SSE after it
-  /// (without the pull). Throws InputError on a J of the wrong shape.
+  /// (without the pull). `fraction`: the model moved by that fraction of
+  /// the step (a damped step where the full one overshoots; predicted_sse
+  /// is then the linearised SSE at that fraction). Throws InputError on a J
+  /// of the wrong shape or a fraction outside (0, 1].
   DiagModel linear_step(const FitOutcome& at, const std::vector<FreeParam>& free, const Eigen::MatrixXd& J,
-                        const std::vector<int>& cols, double* predicted_sse = nullptr) const;
+                        const std::vector<int>& cols, double* predicted_sse = nullptr, double fraction = 1.0) const;
 
   /// Scale of a free parameter in the solver (natural units).
   double scale(const FreeParam& p) const;
