@@ -87,6 +87,27 @@ def test_verdict_agrees_with_the_significance_decisions(camera_case):
     assert not set(j["also"]) & set(j["alternatives"])
 
 
+def test_each_effects_note_states_its_own_tests(camera_case):
+    """The note a person reads says which of the three tests (docs/diagnosis.md)
+    decided, in agreement with the numbers beside it."""
+    _, j, _, _ = camera_case
+    margin = j["options"]["min_shrink"]
+    for e in j["effects"]:
+        lr, cv, n = e["likelihood_ratio"], e["cross_validation"], e["note"]
+        if e["significant"]:
+            assert n.startswith("significant"), (e["name"], n)
+        elif not lr["pass"]:
+            assert n.startswith("not significant on the training gliders"), (e["name"], n)
+        elif e["shrink"] <= 0:
+            assert "predicts held-out gliders worse" in n, (e["name"], n)
+        elif e["shrink"] < margin and cv["delta_chi2"] > cv["threshold"]:
+            assert "of %d gliders" % cv["gliders"] in n and "margin" in n, (e["name"], n)
+        elif e["shrink"] < margin:
+            assert "barely carries over" in n, (e["name"], n)
+        else:
+            assert "within what fitting its strength to noise gives" in n, (e["name"], n)
+
+
 def test_no_candidate_explains_the_flights_worse_than_the_baseline_it_contains(camera_case):
     """Every candidate nests the baseline (strength 0), so its fit to all
     gliders can only be as good or better."""
