@@ -1033,6 +1033,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   int n_ho = 0, f_ho = 0;
   std::vector<double> sse_ho(ne, 0.0);
   std::map<int, double> g0;
+  std::map<int, int> gn;
   std::vector<std::map<int, double>> ge(ne);
   for (const auto& h : res.heldout) {
     sse0_ho += h.baseline.sse;
@@ -1040,6 +1041,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     ++f_ho;
     const int g = D.glider_of(h.flight);
     g0[g] += h.baseline.sse;
+    gn[g] += static_cast<int>(h.baseline.residual.size());
     for (int e = 0; e < ne; ++e) {
       sse_ho[e] += h.effects[e].sse;
       ge[e][g] += h.effects[e].sse;
@@ -1123,6 +1125,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       const double x = (s0 - ge[e][g]) / s2;
       dg.push_back(x);
       if (x > 0) ++r.gliders_improved;
+      const double n = std::max(1, gn[g]);
+      r.glider_holdout_rmse_m.push_back({D.gliders()[g].key, std::sqrt(ge[e][g] / n)});
+      r.glider_baseline_holdout_rmse_m.push_back({D.gliders()[g].key, std::sqrt(s0 / n)});
     }
     r.gliders_total = static_cast<int>(dg.size());
     const double m = std::accumulate(dg.begin(), dg.end(), 0.0) / dg.size();
@@ -1506,6 +1511,14 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   return res;
 }
 
+namespace {
+json glider_map(const std::vector<std::pair<std::string, double>>& v) {
+  json m = json::object();
+  for (const auto& [k, x] : v) m[k] = x;
+  return m;
+}
+}  // namespace
+
 json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   json j;
   j["format"] = "pteromys-diagnosis/1";
@@ -1543,7 +1556,10 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                                                   {"threshold", e.holdout_threshold},
                                                   {"gliders_improved", e.gliders_improved},
                                                   {"gliders", e.gliders_total},
-                                                  {"paired_t", e.glider_t}}},
+                                                  {"paired_t", e.glider_t},
+                                                  {"glider_holdout_rmse_m", glider_map(e.glider_holdout_rmse_m)},
+                                                  {"glider_baseline_holdout_rmse_m",
+                                                   glider_map(e.glider_baseline_holdout_rmse_m)}}},
                             {"coefficient_collinearity", e.coefficient_collinearity},
                             {"indistinguishable_from_coefficients", e.indistinguishable},
                             {"confusable_with", conf},

@@ -108,6 +108,25 @@ def test_each_effects_note_states_its_own_tests(camera_case):
             assert "within what fitting its strength to noise gives" in n, (e["name"], n)
 
 
+def test_per_glider_held_out_errors_add_up_to_the_effects_held_out_error(camera_case):
+    """Each candidate's held-out RMSE per glider, weighted by the glider's
+    held-out points (from `where`), gives back its held-out RMSE over all
+    points; the baseline's per glider is the one `where` reports, and the
+    gliders improved are those whose error fell."""
+    _, j, _, _ = camera_case
+    pts = {g["glider"]: g["points"] for g in j["where"]["gliders"]}
+    base = {g["glider"]: g["rmse_m"] for g in j["where"]["gliders"]}
+    n = sum(pts.values())
+    for e in j["effects"]:
+        cv = e["cross_validation"]
+        per, per0 = cv["glider_holdout_rmse_m"], cv["glider_baseline_holdout_rmse_m"]
+        assert set(per) == set(pts) == set(per0)
+        assert math.sqrt(sum(pts[g] * per[g] ** 2 for g in per) / n) == pytest.approx(e["holdout_rmse_m"], rel=1e-9)
+        for g in per0:
+            assert per0[g] == pytest.approx(base[g], rel=1e-9), g
+        assert cv["gliders_improved"] == sum(1 for g in per if per[g] < per0[g])
+
+
 def test_no_candidate_explains_the_flights_worse_than_the_baseline_it_contains(camera_case):
     """Every candidate nests the baseline (strength 0), so its fit to all
     gliders can only be as good or better."""

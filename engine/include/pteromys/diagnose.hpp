@@ -173,6 +173,10 @@ struct EffectResult {
   double holdout_threshold = 0;    ///< chi-square quantile it must exceed
   int gliders_improved = 0, gliders_total = 0;
   double glider_t = 0;             ///< paired t statistic of per-glider held-out improvements
+  /// Held-out RMSE of each glider (key, [m]) with this effect and with the
+  /// baseline: which gliders the effect helps, and whether one glider that
+  /// no candidate predicts dominates the held-out error.
+  std::vector<std::pair<std::string, double>> glider_holdout_rmse_m, glider_baseline_holdout_rmse_m;
   // Identifiability.
   double coefficient_collinearity = 0;   ///< R^2 of its signature on re-tuned coefficients (and trims), 0..1
   bool indistinguishable = false;
