@@ -7,7 +7,7 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 
 PKGS=(
   build-essential cmake pkg-config git
-  libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev nlohmann-json3-dev
+  libcgal-dev libboost-dev libgmp-dev libmpfr-dev libeigen3-dev nlohmann-json3-dev
   pybind11-dev python3-dev libnlopt-cxx-dev libnlopt-dev libdxflib-dev
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev libocct-ocaf-dev

@@ -428,7 +428,36 @@ TEST(Diagnose, EachFlightsOwnLaunchRotationIsFound) {
     EXPECT_NEAR(rad2deg(e.parameters[0]), 50.0, 15.0);
     EXPECT_TRUE(e.significant);
     EXPECT_GT(e.holdout_threshold, 9.0);  // chi-square quantile with one degree per held-out flight (9), not 1
+    // The held-out flights' own rates share the launcher's direction.
+    EXPECT_TRUE(e.rate_test);
+    EXPECT_TRUE(e.rate_mean_pass);
+    EXPECT_NEAR(rad2deg(e.rate_mean), 50.0, 15.0);
+    EXPECT_GT(e.rate_mean_t, 0.0);
   }
+}
+
+// Rates that do not share a direction (-120 to 120 deg/s, mean 0): a free
+// sixth launch value fits them, but no launcher turns gliders both ways on
+// average; launch_rotation is not significant, and its note says why.
+TEST(Diagnose, LaunchRatesWithoutACommonDirectionAreNotALauncherRotation) {
+  std::vector<double> rates;
+  for (int i = 0; i < 9; ++i) rates.push_back(deg2rad(-120.0 + 30.0 * ((i * 4) % 9)));
+  const Dataset d = corrected_flights(EffectValues{}, 0.005, 13, rates);
+  const DiagnoseResult r = diagnose(d, small_diagnosis({Effect::Wind, Effect::LaunchRotation}));
+  for (const auto& e : r.effects) {
+    if (e.effect != Effect::LaunchRotation) {
+      EXPECT_FALSE(e.rate_test) << e.name;
+      continue;
+    }
+    EXPECT_TRUE(e.rate_test);
+    EXPECT_FALSE(e.rate_mean_pass) << "mean " << rad2deg(e.rate_mean) << " deg/s, p " << e.rate_mean_p;
+    EXPECT_LT(std::abs(rad2deg(e.rate_mean)), 15.0);
+    EXPECT_FALSE(e.significant);
+    EXPECT_TRUE(e.lr_pass) << "delta chi2 " << e.delta_chi2 << " p " << e.p_value << " shrink " << e.shrink << " "
+                           << e.note;  // the rates themselves are found: the launch fit leaves them out
+    EXPECT_NE(e.note.find("do not share a direction"), std::string::npos) << e.note;
+  }
+  EXPECT_NE(r.verdict, "launch_rotation") << r.summary;
 }
 
 // The second round: flights with a headwind *and* a camera error (2 mm noise)

@@ -173,6 +173,14 @@ struct EffectResult {
   double holdout_threshold = 0;    ///< chi-square quantile it must exceed
   int gliders_improved = 0, gliders_total = 0;
   double glider_t = 0;             ///< paired t statistic of per-glider held-out improvements
+  /// Per-flight launch rotation only: do the flights' own rates (each
+  /// held-out flight's, fitted to its own points) share a direction, as a
+  /// launcher's rotation does? Student's t of their mean against zero,
+  /// two-sided, at level alpha / m; otherwise the sixth launch value only
+  /// absorbs misfit (ground-effect data tracked near the landing: mean
+  /// -9 deg/s, 5 % shrink). `rate_test` is false for every other effect.
+  bool rate_test = false, rate_mean_pass = true;
+  double rate_mean = 0, rate_mean_t = 0, rate_mean_p = 1;  ///< [rad/s], t, p-value
   /// Held-out RMSE of each glider (key, [m]) with this effect and with the
   /// baseline: which gliders the effect helps, and whether one glider that
   /// no candidate predicts dominates the held-out error.
