@@ -1521,8 +1521,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         << "); no candidate effect improves it significantly.";
     } else {
       s << "A real gap remains (held-out error " << cm(res.holdout_rmse_m) << " against " << cm(res.noise_rmse_m)
-        << " from noise alone) that no candidate closes: the best, " << b.name << ", cuts it by only "
-        << pct(b.shrink) << ".";
+        << " from noise alone) that no candidate closes: the best, " << b.name;
+      if (b.shrink < o.min_shrink) s << ", cuts it by only " << pct(b.shrink) << ".";
+      else s << ", cuts it by " << pct(b.shrink) << " but is not significant: " << b.note << ".";
     }
     // One glider that carries most of the held-out excess and that no
     // candidate predicts better (blind finite-span data: the canard, 4.9 cm
