@@ -219,6 +219,29 @@ std::vector<int> reverse_tests(const std::vector<EffectResult>& effects, int ver
 }
 }  // namespace
 
+std::string dominant_glider_sentence(const json& where, const std::vector<EffectResult>& effects) {
+  if (!where.contains("gliders") || !where.contains("all")) return {};
+  const double all = where["all"].value("excess_m2", 0.0);
+  if (!(all > 0)) return {};
+  std::ostringstream s;
+  for (const auto& g : where["gliders"]) {
+    const double share = g["excess_m2"].get<double>() / all;
+    if (!(share >= 0.5)) continue;
+    const std::string key = g["glider"].get<std::string>();
+    const double r0 = g["rmse_m"].get<double>();
+    double best_r = r0;
+    for (const auto& e : effects)
+      for (const auto& [k, r] : e.glider_holdout_rmse_m)
+        if (k == key) best_r = std::min(best_r, r);
+    if (best_r < 0.9 * r0) continue;
+    s << " Most of the excess over the noise (" << pct(share) << ") is one glider, " << key
+      << ", predicted from the others at " << cm(r0) << " held out (" << fmt(g["chi2_ratio"].get<double>(), 2)
+      << " times the noise's squared error) and no better by any candidate (best " << cm(best_r)
+      << "): the model does not carry over to its geometry from the other gliders.";
+  }
+  return s.str();
+}
+
 SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict) {
   SecondRoundOutcome out;
   out.verdict = verdict;
@@ -1529,24 +1552,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // candidate predicts better (blind finite-span data: the canard, 4.9 cm
     // held out, 13 times the noise, with every candidate): the gap is the
     // model's carrying over to that geometry, not an effect of all flights.
-    if (res.verdict != "none" && res.where.contains("gliders") && res.where["all"]["excess_m2"].get<double>() > 0) {
-      const double all = res.where["all"]["excess_m2"].get<double>();
-      for (const auto& g : res.where["gliders"]) {
-        const double share = g["excess_m2"].get<double>() / all;
-        if (share < 0.5) continue;
-        const std::string key = g["glider"].get<std::string>();
-        const double r0 = g["rmse_m"].get<double>();
-        double best_r = r0;
-        for (const auto& e : res.effects)
-          for (const auto& [k, r] : e.glider_holdout_rmse_m)
-            if (k == key) best_r = std::min(best_r, r);
-        if (best_r < 0.9 * r0) continue;
-        s << " Most of the excess over the noise (" << pct(share) << ") is one glider, " << key
-          << ", predicted from the others at " << cm(r0) << " held out (" << fmt(g["chi2_ratio"].get<double>(), 2)
-          << " times the noise's squared error) and no better by any candidate (best " << cm(best_r)
-          << "): the model does not carry over to its geometry from the other gliders.";
-      }
-    }
+    if (res.verdict != "none") s << dominant_glider_sentence(res.where, res.effects);
     if (res.where["whiteness"]["structured"].get<bool>() && res.verdict != "none")
       s << " The baseline's residuals drift systematically along each flight rather than scattering like noise.";
     res.summary = s.str();

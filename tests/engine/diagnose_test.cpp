@@ -584,3 +584,42 @@ TEST(Diagnose, SecondRoundDecisionFollowsItsRule) {
   }
   EXPECT_THROW(second_round_outcome({verdict}, 3), InputError);
 }
+
+// The summary's sentence on a glider that carries most of the held-out excess
+// and that no candidate predicts better, on a `where` set by hand: the canard
+// carries 6 of 9 units of excess (67 %) at 4.9 cm; a candidate that predicts
+// it at 4.7 cm is not 10 % better (0.9 x 4.9 = 4.41 cm), so the sentence
+// names it with the best candidate's 4.7 cm; one at 4.0 cm is, and so is no
+// sentence. Neither a glider under half the excess nor a gap without excess
+// gives one.
+TEST(Diagnose, DominantGliderSentenceNamesOnlyAGliderNoCandidateHelps) {
+  nlohmann::json where;
+  where["all"]["excess_m2"] = 9.0;
+  where["gliders"] = nlohmann::json::array();
+  auto glider = [](const char* key, double rmse, double excess, double chi2) {
+    return nlohmann::json{{"glider", key}, {"rmse_m", rmse}, {"excess_m2", excess}, {"chi2_ratio", chi2}};
+  };
+  where["gliders"].push_back(glider("t01", 0.015, 2.0, 1.4));
+  where["gliders"].push_back(glider("t17", 0.049, 6.0, 13.0));
+  where["gliders"].push_back(glider("t09", 0.020, 1.0, 2.8));
+  auto candidate = [](double canard_rmse) {
+    EffectResult e;
+    e.glider_holdout_rmse_m = {{"t01", 0.010}, {"t17", canard_rmse}, {"t09", 0.012}};
+    return e;
+  };
+  const std::string s = dominant_glider_sentence(where, {candidate(0.050), candidate(0.047)});
+  EXPECT_NE(s.find("one glider, t17"), std::string::npos) << s;
+  EXPECT_NE(s.find("(67 %)"), std::string::npos) << s;
+  EXPECT_NE(s.find("at 4.9 cm held out"), std::string::npos) << s;
+  EXPECT_NE(s.find("(best 4.7 cm)"), std::string::npos) << s;
+  EXPECT_NE(s.find("13 times"), std::string::npos) << s;
+  EXPECT_EQ(s.find("t01"), std::string::npos) << s;
+  EXPECT_EQ(dominant_glider_sentence(where, {candidate(0.047), candidate(0.040)}), "");
+  nlohmann::json spread = where;
+  spread["gliders"][1]["excess_m2"] = 4.0;  // 4 of 9: under half
+  EXPECT_EQ(dominant_glider_sentence(spread, {candidate(0.050)}), "");
+  nlohmann::json none = where;
+  none["all"]["excess_m2"] = 0.0;
+  EXPECT_EQ(dominant_glider_sentence(none, {candidate(0.050)}), "");
+  EXPECT_EQ(dominant_glider_sentence(nlohmann::json::object(), {}), "");
+}

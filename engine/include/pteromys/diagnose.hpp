@@ -269,6 +269,15 @@ struct SecondRoundOutcome {
 };
 SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict);
 
+/// The summary's sentence on one glider that carries most of the held-out
+/// excess over the noise (at least half of `where["all"]["excess_m2"]`, from
+/// `where["gliders"]`: glider, rmse_m, excess_m2, chi2_ratio) and that no
+/// candidate of `effects` predicts 10 % better (their
+/// glider_holdout_rmse_m): the gap is the model's not carrying over to that
+/// geometry rather than an effect of every flight. Empty when there is no
+/// such glider or no excess.
+std::string dominant_glider_sentence(const nlohmann::json& where, const std::vector<EffectResult>& effects);
+
 /// DiagnoseOptions::launch_rotation_per_flight from its spelling in the
 /// command line and the Python call: "per-flight" (true) or "common"
 /// (false); anything else is an InputError naming `option`.
