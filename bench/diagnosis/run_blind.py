@@ -10,8 +10,8 @@ confusion matrix, top-1 attribution, false discoveries on null data, shrink
 against the oracle, fitted against true strength, detection against strength.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/diagnosis/run_blind.py --build build --out out/blind [--quick]
-    # a strength sweep with the default (fixed-coefficient) diagnosis:
-    ... run_blind.py --out out/sweep --polish 0 --cases pitch_damping-0.5-s25,pitch_damping-0.25-s25,null-s35
+    # a strength sweep with the default diagnosis (--polish 0, profiled starts):
+    ... run_blind.py --out out/sweep --cases pitch_damping-0.5-s25,pitch_damping-0.25-s25,null-s35
 
 A candidate's held-out shrink is set against two references. The oracle
 (issue 7: "the baseline plus the true effect"): the diagnosis's wing-element
@@ -108,13 +108,14 @@ def one(case, args, gl_dir):
     spec = oracle_spec(case)
     oracle = ["--oracle", spec] if spec and args.oracle else []
     run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG +
-        ["--polish", str(args.polish)] + (["--profile"] if args.profile else []) + oracle, log)
+        ["--polish", str(args.polish)] + (["--profile"] if args.profile else []) +
+        (["--no-profile"] if args.no_profile else []) + oracle, log)
     os.replace(res + ".tmp", res)
     with open(res) as f:
         r = json.load(f)
     r.setdefault("timings", {})["wall_s"] = time.time() - t
     r["bench_polish"] = args.polish
-    r["bench_profile"] = bool(args.profile)
+    r["bench_profile"] = bool(r.get("options", {}).get("profile", args.profile))  # what the binary ran
     commit = os.path.join(args.build, "COMMIT")  # a frozen copy of the binary says which commit it was built from
     if os.path.isfile(commit):
         r["bench_commit"] = open(commit).read().strip()
@@ -388,11 +389,15 @@ def main():
     ap.add_argument("--no-oracle", dest="oracle", action="store_false",
                     help="do not fit the oracle (the baseline plus the true effects, centre values refitted); the "
                          "noise floor then stands in for it")
-    ap.add_argument("--polish", type=int, default=9,
-                    help="candidates refitted with the coefficients (9: all, the protocol; 0: the diagnosis default)")
+    ap.add_argument("--polish", type=int, default=0,
+                    help="candidates refitted with the coefficients (0: the diagnosis default, the protocol since "
+                         "2026-11-26; 9: all, the earlier protocol, hours per case)")
     ap.add_argument("--profile", action="store_true",
-                    help="pass --profile (with --polish 0: the candidates that gain most with re-tuned centre values "
-                         "are refitted jointly with them)")
+                    help="pass --profile (the diagnosis default since 2026-11-26; for frozen binaries of earlier "
+                         "commits, where it was off by default)")
+    ap.add_argument("--no-profile", action="store_true",
+                    help="pass --no-profile: no profiled starts (fixed coefficients only, as the default was before "
+                         "2026-11-26)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     gl_dir = os.path.join(args.out, "gliders")

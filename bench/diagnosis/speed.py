@@ -37,7 +37,9 @@ def main():
                          "the diagnosis finds (e.g. wind), the second round runs too, the slowest case")
     ap.add_argument("--polish", type=int, default=0, help="passed to diagnose (default 0, its default)")
     ap.add_argument("--no-report", action="store_true", help="time the diagnosis without the HTML report")
-    ap.add_argument("--profile", action="store_true", help="pass --profile (profiled starts) to diagnose")
+    ap.add_argument("--profile", action="store_true",
+                    help="pass --profile (profiled starts, the default since 2026-11-26; for binaries of earlier commits)")
+    ap.add_argument("--no-profile", action="store_true", help="pass --no-profile (fixed coefficients only) to diagnose")
     args = ap.parse_args()
     pt = os.path.join(args.build, "bin", "pteromys")
     if not os.access(pt, os.X_OK):
@@ -68,6 +70,8 @@ def main():
         cmd += ["--polish", str(args.polish)]
     if args.profile:
         cmd += ["--profile"]
+    if args.no_profile:
+        cmd += ["--no-profile"]
     print("$ " + " ".join(cmd), flush=True)
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.time()

@@ -109,9 +109,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
-                                        "--oracle"};
+                                        "--oracle", "--profile-min-gliders"};
   const Args a = parse_args(argv, valued,
-                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round", "--profile"});
+                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round", "--profile", "--no-profile"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -133,7 +133,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.full_fit = !a.flag("--no-full-fit");
   o.holdout_chi2_test = !a.flag("--no-holdout-test");
   o.second_effect = !a.flag("--no-second-round");
-  o.profile = a.flag("--profile");
+  if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
+  o.profile = !a.flag("--no-profile");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);
@@ -154,6 +155,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("--launch-window and --near-ground must not be negative");
   o.worst_flights = whole(a, "--worst-flights", o.worst_flights, 0, 1000);
   o.polish = whole(a, "--polish", o.polish, 0, 100);
+  o.profile_min_gliders = whole(a, "--profile-min-gliders", o.profile_min_gliders, 1, 100000);
   if (a.has("--launch-rotation"))
     o.launch_rotation_per_flight = launch_rotation_per_flight_from(a.get("--launch-rotation"), "--launch-rotation");
   if (a.has("--oracle")) o.oracle = oracle_from(a.get("--oracle"), "--oracle");
@@ -252,10 +254,14 @@ const bool registered_diagnose = register_command(
          "                          number of candidates (e.g. 9) refits all of them, each\n"
          "                          aerodynamic one from its theoretical size: slower (about\n"
          "                          4x), and what finds effects the coefficients absorb (docs)\n"
-         "  --profile               without polish: also refit the (at most 3) candidates whose\n"
-         "                          linearised gain with the centre values re-tuned passes the\n"
-         "                          test, from that step and jointly with the centre values\n"
-         "                          (finds effects the coefficients absorb; slower, docs)\n"
+         "  --no-profile            without polish, do not also refit the (at most 3) candidates\n"
+         "                          whose linearised gain with the centre values re-tuned passes\n"
+         "                          the test, from that step and jointly with the centre values\n"
+         "                          (the default does: it finds effects the coefficients absorb;\n"
+         "                          without it faster, docs); --profile: the default, explicitly\n"
+         "  --profile-min-gliders N profiled starts only in fits to at least N gliders (all\n"
+         "                          gliders, a fold's training gliders; default 6): on fewer the\n"
+         "                          re-tuned centre values overfit, and those fits keep them fixed\n"
          "  --launch-rotation M     per-flight (default): every flight's own pitch rate at its\n"
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"

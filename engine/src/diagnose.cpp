@@ -659,6 +659,14 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // takes the regularised step on the trims and centre values (kept when its
   // refitted launches and trims fit better), every candidate's start is the
   // step with its strengths as well.
+  // Profiled starts re-tune the centre values with each candidate; on too
+  // few gliders they overfit them (DiagnoseOptions::profile_min_gliders).
+  auto gliders_of = [&](const std::vector<int>& flights) {
+    std::set<int> g;
+    for (int f : flights) g.insert(D.glider_of(f));
+    return static_cast<int>(g.size());
+  };
+  auto profiled_on = [&](int gliders) { return gliders >= o.profile_min_gliders; };
   auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label) {
     const auto trims = trims_of(D, flights, o.trim);
     std::vector<FreeParam> free = trims;
@@ -728,7 +736,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return starts;
   };
   auto fit_effects_from = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label) {
-    const bool profiled = o.profile && o.polish <= 0 && centre_count(base.model.coefficients) > 0;
+    const bool profiled = o.profile && o.polish <= 0 && centre_count(base.model.coefficients) > 0 &&
+                          profiled_on(gliders_of(flights));
     // The fixed-coefficient fits keep the coefficients the baseline had
     // before its own linearised step: re-tuned at strength 0, the centre
     // values absorb more of an effect (pitch damping on flights of the model
@@ -785,7 +794,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // predicted one fold's held-out gliders at 8.8 cm against the
     // baseline's 5.2 cm, the camera another's at 58 cm).
     std::set<int> bad;
-    if (o.polish > 0 || o.profile)
+    if (o.polish > 0 || (o.profile && profiled_on(static_cast<int>(flown.size()) - gliders_of(test))))
       for (const auto& f : best.flights)
         if (f.left_model_range) bad.insert(D.glider_of(f.flight));
     for (int g : bad) {
@@ -1696,6 +1705,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"full_fit", o.full_fit},
                   {"polish", o.polish},
                   {"profile", o.profile},
+                  {"profile_min_gliders", o.profile_min_gliders},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
   j["timings"] = r.timings;

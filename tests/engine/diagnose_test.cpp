@@ -284,7 +284,8 @@ TEST(Diagnose, RefusesTooFewGlidersAndBadOptions) {
 // that of noise (about 1), and the JSON has the spec's keys.
 TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
   const Dataset d = corrected_flights(EffectValues{}, 0.01, 7);
-  const DiagnoseOptions o = small_diagnosis({Effect::Wind, Effect::LaunchRotation});
+  DiagnoseOptions o = small_diagnosis({Effect::Wind, Effect::LaunchRotation});
+  o.profile = false;  // fixed coefficients only; the default (profiled starts) below
   const DiagnoseResult r = diagnose(d, o);
   EXPECT_EQ(r.verdict, "none") << r.summary;
   EXPECT_LT(r.holdout_chi2_ratio, 1.3) << r.summary;
@@ -297,12 +298,29 @@ TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
   EXPECT_TRUE(j.at("baseline").contains("holdout_rmse_m"));
   for (const auto& e : j.at("effects"))
     for (const char* k : {"name", "holdout_rmse_m", "shrink", "significant"}) EXPECT_TRUE(e.contains(k)) << k;
-  // With profiled starts (the baseline's linearised step, the candidates'
-  // linearised gains): still no gap and nothing significant. Small enough
-  // that the profiled path also runs under the sanitizers.
+  // With profiled starts (the default: the baseline's linearised step, the
+  // candidates' linearised gains): still no gap and nothing significant.
+  // Small enough that the profiled path also runs under the sanitizers.
+  // Three gliders are fewer than the default profile_min_gliders: the
+  // default runs with fixed coefficients (no linearised step reported); with
+  // the threshold lowered the profiled path runs.
   DiagnoseOptions op = o;
-  op.profile = true;
-  const DiagnoseResult rp = diagnose(d, op);
+  op.profile = DiagnoseOptions{}.profile;
+  EXPECT_TRUE(op.profile) << "profiled starts are the default";
+  EXPECT_GT(op.profile_min_gliders, 3);
+  auto stepped = [&](const DiagnoseOptions& opts, DiagnoseResult& out) {
+    bool seen = false;
+    out = diagnose(d, opts, [&](const DiagnoseProgress& p) {
+      seen = seen || p.message.find("linearised step") != std::string::npos;
+    });
+    return seen;
+  };
+  DiagnoseResult rd;
+  EXPECT_FALSE(stepped(op, rd)) << "profiled on 3 gliders";
+  EXPECT_EQ(rd.verdict, "none") << rd.summary;
+  op.profile_min_gliders = 2;
+  DiagnoseResult rp;
+  EXPECT_TRUE(stepped(op, rp)) << "no profiled step with the threshold at 2 gliders";
   EXPECT_EQ(rp.verdict, "none") << rp.summary;
   EXPECT_LT(rp.holdout_chi2_ratio, 1.3) << rp.summary;
   for (const auto& e : rp.effects) EXPECT_FALSE(e.significant) << e.name;
@@ -341,6 +359,7 @@ TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
   const Dataset d = corrected_flights(truth, 0.002, 5);
   DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind});
   o.profile = true;
+  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
   o.second_effect = false;
   const DiagnoseResult r = diagnose(d, o);
   EXPECT_EQ(r.verdict, "pitch_damping") << r.summary;

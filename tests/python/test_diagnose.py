@@ -214,6 +214,22 @@ def test_null_data_give_no_discovery(tmp_path):
     assert msgs and msgs[-1]["stage"] == "done" and msgs[-1]["step"] == msgs[-1]["steps"]
 
 
+def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camera_case):
+    """Profiled starts are on unless --no-profile (the camera case ran the
+    default); the JSON records which ran, and on null data the
+    fixed-coefficient path finds no effect either."""
+    assert camera_case[1]["options"]["profile"] is True
+    assert camera_case[1]["options"]["profile_min_gliders"] == 6
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    out = tmp_path / "fixed.json"
+    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile"])
+    assert r.returncode == 0, r.stderr[-2000:]
+    j = load(out)
+    assert j["options"]["profile"] is False
+    assert j["verdict"] == "none", j["summary"]
+    assert [e["name"] for e in j["effects"] if e["significant"]] == []
+
+
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
@@ -231,6 +247,8 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--oracle", "wind"], "EFFECT=VALUE"),
     (["diagnose", "DS", "--json", "OUT", "--oracle", "ground_effect=50"], "outside the effect's range"),
     (["diagnose", "DS", "--json", "OUT", "--oracle", "camera=0.03"], "takes 2 value(s)"),
+    (["diagnose", "DS", "--json", "OUT", "--profile", "--no-profile"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None

@@ -21,7 +21,7 @@ __all__ = ["diagnose", "diagnosis_report", "effect_library", "glider_features", 
 def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.05,
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
-             worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=False, threads=0, progress=None):
+             worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -32,9 +32,12 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     first point is fitted) or "common" (one rate for the session).
     ``second_effect``: when an effect is the verdict, test every other one
     added to it (result keys ``also``, ``alternatives``, ``replaced``).
-    ``profile``: without polish, also refit the candidates whose linearised gain
-    with the RBF centre values re-tuned passes the test from that step, jointly
-    with the centre values (docs/diagnosis.md, "Profiled starts").
+    ``profile`` (default True): without polish, also refit the candidates whose
+    linearised gain with the RBF centre values re-tuned passes the test from
+    that step, jointly with the centre values (docs/diagnosis.md, "Profiled
+    starts"); False is faster and finds only what fixed coefficients show.
+    ``profile_min_gliders``: profiled starts only in fits to at least this many
+    gliders (all gliders, a fold's training gliders); fewer overfit them.
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
@@ -46,6 +49,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 polish=polish, full_fit=bool(full_fit), iterations=iterations, ground_y=ground_y, dt=dt,
                 launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),
+                profile_min_gliders=profile_min_gliders,
                 threads=threads)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
