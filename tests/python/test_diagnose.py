@@ -200,6 +200,9 @@ def test_progress_goes_to_stderr(camera_case):
     lines = [l for l in r.stderr.splitlines() if l.startswith("[")]
     assert len(lines) > 10
     assert "fold" in r.stderr and "held-out" in r.stderr
+    # One line per candidate while a fold's held-out gliders are fitted: 9
+    # candidates in each of the 3 folds.
+    assert len([l for l in lines if ": held-out gliders under " in l]) == 9 * 3
 
 
 def test_null_data_give_no_discovery(tmp_path):
