@@ -111,7 +111,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--profile-min-gliders"};
   const Args a = parse_args(argv, valued,
-                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round", "--profile", "--no-profile"});
+                            {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
+                             "--profile", "--no-profile", "--no-glider-guard"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -133,6 +134,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.full_fit = !a.flag("--no-full-fit");
   o.holdout_chi2_test = !a.flag("--no-holdout-test");
   o.second_effect = !a.flag("--no-second-round");
+  o.glider_guard = !a.flag("--no-glider-guard");
   if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
   o.profile = !a.flag("--no-profile");
   o.alpha = a.number("--alpha", o.alpha);
@@ -266,6 +268,10 @@ const bool registered_diagnose = register_command(
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"
          "  --no-second-round       do not test the other candidates added to the verdict's effect\n"
+         "  --no-glider-guard       let an effect be significant whose held-out shrink falls\n"
+         "                          below the margin once one glider is left out and that\n"
+         "                          improves at most half of the held-out gliders (by default\n"
+         "                          such a gain, resting on one glider, is not significant)\n"
          "  --oracle E=V[:V2],...   validation on data whose effects are known: also predict the\n"
          "                          held-out gliders with the baseline plus these effects at these\n"
          "                          values (units of \"parameters\", e.g. wind=-1,camera=0.03:2),\n"

@@ -219,6 +219,29 @@ std::vector<int> reverse_tests(const std::vector<EffectResult>& effects, int ver
 }
 }  // namespace
 
+std::pair<double, int> leave_one_glider_out_shrink(const std::vector<double>& baseline_sse,
+                                                   const std::vector<double>& effect_sse) {
+  if (baseline_sse.size() != effect_sse.size())
+    throw InputError("leave-one-glider-out shrink: " + std::to_string(baseline_sse.size()) + " baseline sums but " +
+                     std::to_string(effect_sse.size()) + " effect sums");
+  double b = 0, e = 0;
+  for (std::size_t g = 0; g < baseline_sse.size(); ++g) {
+    if (!(std::isfinite(baseline_sse[g]) && baseline_sse[g] >= 0 && std::isfinite(effect_sse[g]) && effect_sse[g] >= 0))
+      throw InputError("leave-one-glider-out shrink: glider " + std::to_string(g) +
+                       "'s sum of squared residuals is negative or not finite");
+    b += baseline_sse[g];
+    e += effect_sse[g];
+  }
+  auto shrink = [](double eff, double base) { return base > 0 ? 1 - std::sqrt(std::max(0.0, eff) / base) : 0.0; };
+  if (baseline_sse.size() < 2) return {shrink(e, b), -1};
+  std::pair<double, int> worst{std::numeric_limits<double>::infinity(), -1};
+  for (std::size_t g = 0; g < baseline_sse.size(); ++g) {
+    const double x = shrink(e - effect_sse[g], b - baseline_sse[g]);
+    if (x < worst.first) worst = {x, static_cast<int>(g)};
+  }
+  return worst;
+}
+
 std::string dominant_glider_sentence(const json& where, const std::vector<EffectResult>& effects) {
   if (!where.contains("gliders") || !where.contains("all")) return {};
   const double all = where["all"].value("excess_m2", 0.0);
@@ -1163,8 +1186,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     const double s2_ho = std::max(s2, sse_ho[e] / std::max(1.0, dof_ho - (pe_ho - pe)));
     r.holdout_delta_chi2 = (sse0_ho - sse_ho[e]) / s2_ho;
     r.holdout_threshold = chi2_isf(o.alpha / ne, pe_ho);
-    std::vector<double> dg;
+    std::vector<double> dg, b_sse, e_sse;
+    std::vector<int> keys;
     for (const auto& [g, s0] : g0) {
+      b_sse.push_back(s0);
+      e_sse.push_back(ge[e][g]);
+      keys.push_back(g);
       const double x = (s0 - ge[e][g]) / s2;
       dg.push_back(x);
       if (x > 0) ++r.gliders_improved;
@@ -1178,6 +1205,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     for (double x : dg) v += (x - m) * (x - m);
     v = dg.size() > 1 ? v / (dg.size() - 1) : 0.0;
     r.glider_t = v > 0 ? m / std::sqrt(v / dg.size()) : 0.0;
+    const auto [rs, rg] = leave_one_glider_out_shrink(b_sse, e_sse);
+    r.robust_shrink = rs;
+    r.robust_without = rg >= 0 ? D.gliders()[keys[rg]].key : std::string();
+    r.robust_pass = !o.glider_guard || rs >= o.min_shrink || 2 * r.gliders_improved > r.gliders_total;
   }
   // The decision rule, the same in both rounds: the likelihood-ratio test
   // passed (Holm), the held-out RMSE shrank by the margin, and the held-out
@@ -1219,7 +1250,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     r.rate_mean_pass = r.rate_mean_p < o.alpha / ne;
   }
   for (auto& r : res.effects)
-    r.significant = decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass;
+    r.significant =
+        decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass && r.robust_pass;
 
   // ------------------------------------------------------------ identifiability
   report("analysis", "identifiability: effects against re-tuned coefficients and trims");
@@ -1409,6 +1441,11 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
           fmt(rad2deg(r.rate_mean), 2) + " deg/s, t " + fmt(r.rate_mean_t, 2) + ", p " + fmt(r.rate_mean_p, 2) +
           "): a free sixth launch value absorbing misfit (or throws whose rotation varies in sign), not a launcher's "
           "rotation";
+    else if (!r.robust_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+      n = "fits and predicts better (shrink " + pct(r.shrink) + "), but the held-out gain rests on one glider: without " +
+          r.robust_without + " the shrink is " + pct(r.robust_shrink) + ", less than the " + pct(o.min_shrink) +
+          " margin, and it improves only " + std::to_string(r.gliders_improved) + " of " +
+          std::to_string(r.gliders_total) + " held-out gliders; one glider's misfit is not evidence of an effect";
     else if (r.shrink <= 0)
       n = "fits the training gliders better but predicts held-out gliders worse (shrink " + pct(r.shrink) + ")";
     else if (r.shrink < o.min_shrink && r.holdout_delta_chi2 > r.holdout_threshold)
@@ -1634,6 +1671,9 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                                                   {"gliders_improved", e.gliders_improved},
                                                   {"gliders", e.gliders_total},
                                                   {"paired_t", e.glider_t},
+                                                  {"robust_shrink", e.robust_shrink},
+                                                  {"robust_without", e.robust_without},
+                                                  {"robust_pass", e.robust_pass},
                                                   {"glider_holdout_rmse_m", glider_map(e.glider_holdout_rmse_m)},
                                                   {"glider_baseline_holdout_rmse_m",
                                                    glider_map(e.glider_baseline_holdout_rmse_m)}}},
@@ -1704,6 +1744,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"alpha", o.alpha},
                   {"min_shrink", o.min_shrink},
                   {"holdout_chi2_test", o.holdout_chi2_test},
+                  {"glider_guard", o.glider_guard},
                   {"none_tolerance", o.none_tolerance},
                   {"collinearity_limit", o.collinearity_limit},
                   {"launch_window_s", o.launch_window_s},

@@ -98,6 +98,9 @@ def test_each_effects_note_states_its_own_tests(camera_case):
             assert n.startswith("significant"), (e["name"], n)
         elif not lr["pass"]:
             assert n.startswith("not significant on the training gliders"), (e["name"], n)
+        elif (not cv["robust_pass"] and e.get("rate_mean", {}).get("pass", True) and e["shrink"] >= margin
+              and cv["delta_chi2"] > cv["threshold"]):
+            assert "rests on one glider" in n and cv["robust_without"] in n, (e["name"], n)
         elif e["shrink"] <= 0:
             assert "predicts held-out gliders worse" in n, (e["name"], n)
         elif e["shrink"] < margin and cv["delta_chi2"] > cv["threshold"]:
@@ -125,6 +128,16 @@ def test_per_glider_held_out_errors_add_up_to_the_effects_held_out_error(camera_
         for g in per0:
             assert per0[g] == pytest.approx(base[g], rel=1e-9), g
         assert cv["gliders_improved"] == sum(1 for g in per if per[g] < per0[g])
+        # The glider guard's figure, recomputed: the smallest shrink with one
+        # glider's points left out of both sums.
+        sse = {g: pts[g] * per[g] ** 2 for g in per}
+        sse0 = {g: pts[g] * per0[g] ** 2 for g in per}
+        logo = {g: 1 - math.sqrt((sum(sse.values()) - sse[g]) / (sum(sse0.values()) - sse0[g])) for g in per}
+        worst = min(logo, key=logo.get)
+        assert cv["robust_shrink"] == pytest.approx(logo[worst], rel=1e-9, abs=1e-12), e["name"]
+        assert cv["robust_without"] == worst
+        assert cv["robust_pass"] == (logo[worst] >= j["options"]["min_shrink"] or
+                                     2 * cv["gliders_improved"] > cv["gliders"]), e["name"]
 
 
 def test_no_candidate_explains_the_flights_worse_than_the_baseline_it_contains(camera_case):
@@ -223,12 +236,15 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     fixed-coefficient path finds no effect either."""
     assert camera_case[1]["options"]["profile"] is True
     assert camera_case[1]["options"]["profile_min_gliders"] == 6
+    assert camera_case[1]["options"]["glider_guard"] is True
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
-    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile"])
+    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
+    assert j["options"]["glider_guard"] is False
+    assert all(e["cross_validation"]["robust_pass"] for e in j["effects"])
     assert j["verdict"] == "none", j["summary"]
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
 
