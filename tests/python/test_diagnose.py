@@ -194,6 +194,12 @@ def test_report_has_the_page_and_its_plots(camera_case):
         assert png in page
     md = (rep / "report.md").read_text()
     assert j["summary"].split(".")[0] in md
+    # The effects table says how many held-out gliders each effect improved
+    # and what its shrink is without the glider it rests on most.
+    for e in j["effects"]:
+        cv = e["cross_validation"]
+        assert "%d of %d; %.1f %% without %s" % (cv["gliders_improved"], cv["gliders"], 100 * cv["robust_shrink"],
+                                                cv["robust_without"]) in md, e["name"]
     assert not [p for p in os.listdir(rep.parent) if ".tmp-" in p]
 
 

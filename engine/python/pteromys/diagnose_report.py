@@ -155,8 +155,14 @@ def _tables(r):
         par = ", ".join("%s %.3g" % (k, v) for k, v in e.get("parameters", {}).items())
         g = e.get("given_verdict")
         given = ("%s further%s" % (_pct(g["shrink"]), ", significant" if g["significant"] else "")) if g else ""
+        cv = e.get("cross_validation", {})
+        gliders = ""
+        if "gliders" in cv:
+            gliders = "%d of %d" % (cv.get("gliders_improved", 0), cv["gliders"])
+            if cv.get("robust_without"):
+                gliders += "; %.1f %% without %s" % (100.0 * cv["robust_shrink"], cv["robust_without"])
         eff_rows.append([e["name"], _cm(e["holdout_rmse_m"]), _pct(e["shrink"]), "yes" if e["significant"] else "no",
-                         given, par, "%.2g" % e.get("likelihood_ratio", {}).get("p_value", float("nan")),
+                         gliders, given, par, "%.2g" % e.get("likelihood_ratio", {}).get("p_value", float("nan")),
                          "%.0f %%" % (100 * e.get("coefficient_collinearity", 0.0)), e.get("note", "")])
     phase_rows = []
     for p in r.get("where", {}).get("phases", []):
@@ -183,7 +189,8 @@ def _html_table(head, rows):
     return s + "</table>\n"
 
 
-_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant", "added to the verdict's", "fitted strength", "p (LR)",
+_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant", "gliders improved; shrink without the glider it rests on most",
+             "added to the verdict's", "fitted strength", "p (LR)",
              "collinear with coefficients", "note"]
 _PHASE_HEAD = ["phase", "points", "baseline RMSE", "after", "chi2 ratio", "share of excess"]
 _FEAT_HEAD = ["geometry feature", "Spearman rho (vs glider error)", "p"]
