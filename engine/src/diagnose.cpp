@@ -956,8 +956,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     std::vector<FitOutcome> hos(ne);
     // One line per candidate as its held-out gliders are fitted: with
     // re-tuned centre values a held-out glider can need its trim restarted
-    // (held_out_fit), and these fits took 15 minutes of one core per fold
-    // on the blind finite-span data at strength 2 with no line between.
+    // (held_out_fit), which can take minutes. (On the blind finite-span data
+    // at strength 2 these lines showed the 9 fits at 15 s of a fold; the
+    // oracle and an overshooting profiled step were the slow parts.)
     for (int e = 0; e < ne; ++e) {
       hos[e] = ho_fit(trs[e], base_ho);
       report("fold", label + ": held-out gliders under " + effect_name(o.effects[e]) + ": " + cm(hos[e].rmse()) +

@@ -67,7 +67,7 @@ struct DiagnoseOptions {
   /// below the margin with one held-out glider left out
   /// (EffectResult::robust_shrink) and that improves at most half of the
   /// held-out gliders is not significant. On blind launch-rotation data
-  /// (strength 2) the camera's 5.4 % came 86 % from one glider, was 3.2 %
+  /// (strength 2) the camera's 5.4 % came 86 % from one glider, was 3.4 %
   /// without it and improved 4 of 8 gliders, while the true effect added to
   /// the baseline closed 3.7 %. A true effect that shows most on one geometry
   /// still passes when it helps most gliders (3 of 3 on the per-flight

@@ -21,8 +21,8 @@ __all__ = ["diagnose", "diagnosis_report", "effect_library", "glider_features", 
 def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.05,
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
-             worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6, glider_guard=True, threads=0,
-             progress=None):
+             worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
+             glider_guard=True, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).

@@ -189,9 +189,9 @@ def _html_table(head, rows):
     return s + "</table>\n"
 
 
-_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant", "gliders improved; shrink without the glider it rests on most",
-             "added to the verdict's", "fitted strength", "p (LR)",
-             "collinear with coefficients", "note"]
+_EFF_HEAD = ["effect", "held-out RMSE", "shrink", "significant",
+             "gliders improved; shrink without the glider it rests on most", "added to the verdict's",
+             "fitted strength", "p (LR)", "collinear with coefficients", "note"]
 _PHASE_HEAD = ["phase", "points", "baseline RMSE", "after", "chi2 ratio", "share of excess"]
 _FEAT_HEAD = ["geometry feature", "Spearman rho (vs glider error)", "p"]
 
