@@ -265,11 +265,13 @@ std::string dominant_glider_sentence(const json& where, const std::vector<Effect
   return s.str();
 }
 
-SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict) {
+SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects, int verdict, int passed_over) {
   SecondRoundOutcome out;
   out.verdict = verdict;
   const int n = static_cast<int>(effects.size());
   if (verdict < 0 || verdict >= n) throw InputError("second round: no verdict to test against");
+  if (passed_over < -1 || passed_over >= n || passed_over == verdict)
+    throw InputError("second round: the passed-over effect must be another effect of the library or none");
   std::vector<int> also;
   const std::vector<int> reverse = reverse_tests(effects, verdict, &also);
   int replacement = -1;
@@ -277,7 +279,8 @@ SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects
   for (int e : reverse) {
     const auto& g = effects[e].given_verdict;
     if (!g.reverse_tested) continue;
-    if (g.significant && replacement < 0 && !g.verdict_still_needed && effects[e].significant) replacement = e;
+    if (g.significant && replacement < 0 && !g.verdict_still_needed && effects[e].significant && e != passed_over)
+      replacement = e;
     if (!g.significant && !g.verdict_still_needed) alternatives.push_back(e);
   }
   if (replacement >= 0) {
@@ -288,6 +291,53 @@ SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects
   } else {
     out.also = also;
     out.alternatives = alternatives;
+  }
+  return out;
+}
+
+IdentifiablePreference prefer_identifiable(const std::vector<EffectResult>& effects, int best,
+                                           const std::vector<std::vector<double>>& glider_sse, double alpha) {
+  const int n = static_cast<int>(effects.size());
+  if (best < 0 || best >= n) throw InputError("identifiability preference: no best effect to compare with");
+  if (glider_sse.size() != effects.size())
+    throw InputError("identifiability preference: " + std::to_string(glider_sse.size()) + " per-glider sums for " +
+                     std::to_string(n) + " effects");
+  if (!(alpha > 0 && alpha < 1)) throw InputError("identifiability preference: alpha must lie in (0, 1)");
+  IdentifiablePreference out;
+  out.verdict = best;
+  const EffectResult& b = effects[best];
+  if (!b.significant || !b.indistinguishable) return out;
+  int alt = -1;
+  for (int e = 0; e < n; ++e)
+    if (e != best && effects[e].significant && !effects[e].indistinguishable &&
+        (alt < 0 || effects[e].shrink > effects[alt].shrink))
+      alt = e;
+  if (alt < 0) return out;
+  const auto& sb = glider_sse[best];
+  const auto& sa = glider_sse[alt];
+  if (sb.size() != sa.size())
+    throw InputError("identifiability preference: " + std::to_string(sb.size()) + " and " + std::to_string(sa.size()) +
+                     " gliders' sums");
+  std::vector<double> d;
+  for (std::size_t g = 0; g < sb.size(); ++g) {
+    if (!(std::isfinite(sb[g]) && sb[g] >= 0 && std::isfinite(sa[g]) && sa[g] >= 0))
+      throw InputError("identifiability preference: glider " + std::to_string(g) +
+                       "'s sum of squared residuals is negative or not finite");
+    d.push_back(sa[g] - sb[g]);
+  }
+  out.alternative = alt;
+  if (d.size() < 2) return out;
+  const double m = std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
+  double v = 0;
+  for (double x : d) v += (x - m) * (x - m);
+  v /= static_cast<double>(d.size() - 1);
+  constexpr double big = 1e12;
+  out.t = v > 0 ? m / std::sqrt(v / static_cast<double>(d.size())) : (m > 0 ? big : (m < 0 ? -big : 0.0));
+  const boost::math::students_t dist(static_cast<double>(d.size() - 1));
+  out.t_critical = boost::math::quantile(boost::math::complement(dist, alpha));
+  if (out.t < out.t_critical) {
+    out.verdict = alt;
+    out.passed_over = best;
   }
   return out;
 }
@@ -1321,6 +1371,28 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return ra.shrink > rb.shrink;
   });
   int best = order[0];
+  // The identifiability preference: a significant effect the coefficients
+  // cannot imitate is named before one they can, unless the latter predicts
+  // the held-out gliders significantly better (paired over gliders, the
+  // cross-validation's independent units).
+  int passed_over = -1;
+  if (o.prefer_identifiable) {
+    std::vector<std::vector<double>> gsse(ne);
+    for (int e = 0; e < ne; ++e)
+      for (const auto& kv : g0) gsse[e].push_back(ge[e][kv.first]);
+    const IdentifiablePreference ip = prefer_identifiable(res.effects, best, gsse, o.alpha);
+    if (ip.passed_over >= 0) {
+      passed_over = ip.passed_over;
+      res.passed_over = res.effects[passed_over].name;
+      res.passed_over_t = ip.t;
+      res.passed_over_t_critical = ip.t_critical;
+      best = ip.verdict;
+      report("analysis", res.passed_over + " is indistinguishable from re-tuned coefficients and predicts the held-out "
+                         "gliders not significantly better than " + res.effects[best].name + " (paired t " +
+                         fmt(ip.t, 2) + " < " + fmt(ip.t_critical, 2) + "): the verdict names " +
+                         res.effects[best].name, false);
+    }
+  }
   if (res.effects[best].significant) res.verdict = res.effects[best].name;
   else res.verdict = res.holdout_chi2_ratio <= 1 + o.none_tolerance ? "none" : "unexplained";
 
@@ -1423,7 +1495,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                                        g.reverse_shrink, g.reverse_holdout_delta_chi2, g.reverse_threshold);
       g.reverse_tested = true;
     }
-    const SecondRoundOutcome sr = second_round_outcome(res.effects, best);
+    const SecondRoundOutcome sr = second_round_outcome(res.effects, best, passed_over);
     if (sr.replaced >= 0) res.replaced = res.effects[sr.replaced].name;
     best = sr.verdict;
     res.verdict = res.effects[best].name;
@@ -1566,12 +1638,21 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         s << " " << res.replaced << " predicted the held-out gliders better on its own, but adds nothing once "
           << b.name << " is in the model, while " << b.name << " still does with " << res.replaced
           << ": it only imitated " << b.name << ".";
+      if (!res.passed_over.empty()) {
+        const auto& x = named(res.passed_over);
+        s << " " << x.name << " predicted the held-out gliders better on its own (" << pct(x.shrink)
+          << "), but " << pct(x.coefficient_collinearity)
+          << " of its signature is a change of the coefficients or trims, and its advantage over " << b.name
+          << " is not significant across the held-out gliders (paired t " << fmt(res.passed_over_t, 2) << ", needed "
+          << fmt(res.passed_over_t_critical, 2) << "): the verdict names " << b.name
+          << ", which re-tuned coefficients cannot imitate.";
+      }
       int others = 0;
-      for (int i = 1; i < ne; ++i) others += res.effects[order[i]].significant ? 1 : 0;
+      for (int i = 0; i < ne; ++i) others += order[i] != best && res.effects[order[i]].significant ? 1 : 0;
       if (others > 0) {
         s << " Also significant on their own:";
-        for (int i = 1; i < ne; ++i)
-          if (res.effects[order[i]].significant)
+        for (int i = 0; i < ne; ++i)
+          if (order[i] != best && res.effects[order[i]].significant)
             s << " " << res.effects[order[i]].name << " (" << pct(res.effects[order[i]].shrink) << ")";
         s << ".";
       }
@@ -1707,6 +1788,12 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   j["verdict"] = r.verdict;
   j["also"] = r.also;
   if (!r.replaced.empty()) j["replaced"] = r.replaced;
+  if (!r.passed_over.empty())
+    j["passed_over"] = {{"effect", r.passed_over},
+                        {"paired_t", r.passed_over_t},
+                        {"t_critical", r.passed_over_t_critical},
+                        {"reason", "indistinguishable from re-tuned coefficients and not significantly better "
+                                   "across the held-out gliders than the verdict's effect"}};
   j["alternatives"] = r.alternatives;
   if (r.oracle) {
     json eff = json::object();
@@ -1746,6 +1833,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"min_shrink", o.min_shrink},
                   {"holdout_chi2_test", o.holdout_chi2_test},
                   {"glider_guard", o.glider_guard},
+                  {"prefer_identifiable", o.prefer_identifiable},
                   {"none_tolerance", o.none_tolerance},
                   {"collinearity_limit", o.collinearity_limit},
                   {"launch_window_s", o.launch_window_s},

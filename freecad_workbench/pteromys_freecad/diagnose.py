@@ -74,6 +74,8 @@ def summary_text(result):
         lines[1:1] = ["Also present: %s" % ", ".join(result["also"])]
     if result.get("alternatives"):
         lines[1:1] = ["Cannot be told apart from it: %s" % ", ".join(result["alternatives"])]
+    if result.get("passed_over"):
+        lines[1:1] = ["Passed over (re-tuned coefficients can imitate it): %s" % result["passed_over"]["effect"]]
     for e in result["effects"][:3]:
         lines.append("%s: held-out %.1f cm, shrink %.0f %%%s" % (
             e["name"], 100 * e["holdout_rmse_m"], 100 * e["shrink"], ", significant" if e["significant"] else ""))

@@ -75,6 +75,17 @@ def test_result_has_the_spec_keys_and_every_library_effect(camera_case):
 def test_verdict_agrees_with_the_significance_decisions(camera_case):
     _, j, _, _ = camera_case
     sig = [e["name"] for e in j["effects"] if e["significant"]]
+    if "passed_over" in j:
+        # The identifiability preference (docs/diagnosis.md): the best
+        # significant effect is indistinguishable from re-tuned coefficients,
+        # the verdict a significant one that is not, and the paired t of the
+        # former's advantage below its critical value.
+        p = j["passed_over"]
+        by = {e["name"]: e for e in j["effects"]}
+        assert p["effect"] == sig[0] and by[p["effect"]]["indistinguishable_from_coefficients"]
+        assert j["verdict"] in sig and not by[j["verdict"]]["indistinguishable_from_coefficients"]
+        assert p["paired_t"] < p["t_critical"]
+        sig = [j["verdict"]]
     if j["verdict"] in LIBRARY and "replaced" in j:
         # The second round replaced the first significant effect by one that
         # makes it superfluous (docs/diagnosis.md); both are significant alone.
@@ -203,6 +214,19 @@ def test_report_has_the_page_and_its_plots(camera_case):
     assert not [p for p in os.listdir(rep.parent) if ".tmp-" in p]
 
 
+def test_report_names_an_effect_the_identifiability_preference_passed_over(tmp_path, camera_case):
+    """A result whose verdict passed over an effect (its key as the engine
+    writes it, docs/formats.md) says so on the page, with the paired t."""
+    import copy
+    import pteromys
+    j = copy.deepcopy(camera_case[1])
+    j["passed_over"] = {"effect": "camera", "paired_t": 1.1, "t_critical": 3.0, "reason": "test"}
+    page = pteromys.diagnosis_report(j, tmp_path / "rep")
+    md = (tmp_path / "rep" / "report.md").read_text()
+    assert "Passed over: camera" in md and "paired t 1.10, needed 3.00" in md
+    assert "Passed over: camera" in open(page).read()
+
+
 def test_where_the_gap_lies_covers_phases_gliders_features_states_whiteness(camera_case):
     _, j, _, _ = camera_case
     w = j["where"]
@@ -243,13 +267,16 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profile"] is True
     assert camera_case[1]["options"]["profile_min_gliders"] == 6
     assert camera_case[1]["options"]["glider_guard"] is True
+    assert camera_case[1]["options"]["prefer_identifiable"] is True
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
-    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard"])
+    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--no-prefer-identifiable"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
     assert j["options"]["glider_guard"] is False
+    assert j["options"]["prefer_identifiable"] is False
+    assert "passed_over" not in j
     assert all(e["cross_validation"]["robust_pass"] for e in j["effects"])
     assert j["verdict"] == "none", j["summary"]
     assert [e["name"] for e in j["effects"] if e["significant"]] == []

@@ -22,7 +22,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
-             glider_guard=True, threads=0, progress=None):
+             glider_guard=True, prefer_identifiable=True, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -42,6 +42,10 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``glider_guard`` (default True): an effect whose held-out shrink falls
     below ``min_shrink`` with one held-out glider left out and that improves
     at most half of the held-out gliders is not significant.
+    ``prefer_identifiable`` (default True): when the best significant effect
+    is indistinguishable from re-tuned coefficients and a significant one that
+    is not predicts the held-out gliders not significantly worse (paired over
+    gliders), the verdict names the latter (result key ``passed_over``).
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
@@ -54,7 +58,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),
                 profile_min_gliders=profile_min_gliders, glider_guard=bool(glider_guard),
-                threads=threads)
+                prefer_identifiable=bool(prefer_identifiable), threads=threads)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
 

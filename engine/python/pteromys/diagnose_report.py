@@ -221,6 +221,12 @@ def render(r, out, quiet=True):
     if r.get("alternatives"):
         also += (" " if also else "") + ("Cannot be told apart from the verdict with these data (the same misfit): "
                                          "%s." % ", ".join(r["alternatives"]))
+    if r.get("passed_over"):
+        po = r["passed_over"]
+        also += (" " if also else "") + (
+            "Passed over: %s predicted the held-out gliders better, but re-tuned coefficients can imitate it and its "
+            "advantage is not significant across gliders (paired t %.2f, needed %.2f)."
+            % (po["effect"], po["paired_t"], po["t_critical"]))
     md = "# Sim-to-real gap diagnosis\n\n%s\n\n**Verdict: %s**\n\n%s\n\n%s\n\n" % (
         head, r["verdict"], r.get("summary", ""), base)
     if also:
