@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -1629,6 +1630,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         return *std::find_if(res.effects.begin(), res.effects.end(), [&](const EffectResult& y) { return y.name == n; });
       };
       for (const auto& a : res.alternatives) {
+        if (a == res.passed_over) continue;  // said below
         const auto& x = named(a);
         s << " " << a << " explains the same misfit nearly as well (" << pct(x.shrink)
           << " on its own); with either in the model the other adds nothing, so these data cannot tell "
@@ -1640,12 +1642,19 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
           << ": it only imitated " << b.name << ".";
       if (!res.passed_over.empty()) {
         const auto& x = named(res.passed_over);
+        auto two = [](double v) {
+          std::ostringstream t;
+          t << std::fixed << std::setprecision(2) << v;
+          return t.str();
+        };
         s << " " << x.name << " predicted the held-out gliders better on its own (" << pct(x.shrink)
           << "), but " << pct(x.coefficient_collinearity)
           << " of its signature is a change of the coefficients or trims, and its advantage over " << b.name
-          << " is not significant across the held-out gliders (paired t " << fmt(res.passed_over_t, 2) << ", needed "
-          << fmt(res.passed_over_t_critical, 2) << "): the verdict names " << b.name
+          << " is not significant across the held-out gliders (paired t " << two(res.passed_over_t) << ", needed "
+          << two(res.passed_over_t_critical) << "): the verdict names " << b.name
           << ", which re-tuned coefficients cannot imitate.";
+        if (std::find(res.alternatives.begin(), res.alternatives.end(), x.name) != res.alternatives.end())
+          s << " With either in the model the other adds nothing: these data cannot tell them apart by fit alone.";
       }
       int others = 0;
       for (int i = 0; i < ne; ++i) others += order[i] != best && res.effects[order[i]].significant ? 1 : 0;
@@ -1672,7 +1681,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       if (!b.confusable.empty()) {
         s << " Its signature resembles";
         for (std::size_t i = 0; i < b.confusable.size(); ++i) s << (i ? ", " : " ") << b.confusable[i].first;
-        s << ", which fit" << (b.confusable.size() > 1 ? "" : "s") << " less well here.";
+        if (res.passed_over.empty()) s << ", which fit" << (b.confusable.size() > 1 ? "" : "s") << " less well here.";
+        else s << ".";
       }
       if (b.indistinguishable) s << " Caution: " << b.note.substr(b.note.find("; ") + 2) << ".";
     } else if (res.verdict == "none") {
