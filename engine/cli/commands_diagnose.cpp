@@ -113,7 +113,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
-                             "--no-prefer-identifiable"});
+                             "--prefer-identifiable"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -136,7 +136,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.holdout_chi2_test = !a.flag("--no-holdout-test");
   o.second_effect = !a.flag("--no-second-round");
   o.glider_guard = !a.flag("--no-glider-guard");
-  o.prefer_identifiable = !a.flag("--no-prefer-identifiable");
+  o.prefer_identifiable = a.flag("--prefer-identifiable");
   if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
   o.profile = !a.flag("--no-profile");
   o.alpha = a.number("--alpha", o.alpha);
@@ -274,10 +274,10 @@ const bool registered_diagnose = register_command(
          "                          below the margin once one glider is left out and that\n"
          "                          improves at most half of the held-out gliders (by default\n"
          "                          such a gain, resting on one glider, is not significant)\n"
-         "  --no-prefer-identifiable  name the best significant effect even when re-tuned\n"
-         "                          coefficients can imitate it and a significant effect they\n"
-         "                          cannot imitate predicts the held-out gliders not\n"
-         "                          significantly worse (by default the latter is named)\n"
+         "  --prefer-identifiable   name a significant effect that re-tuned coefficients cannot\n"
+         "                          imitate before a better one they can, unless the latter\n"
+         "                          predicts the held-out gliders significantly better (paired\n"
+         "                          t over gliders; experimental, off by default: docs)\n"
          "  --oracle E=V[:V2],...   validation on data whose effects are known: also predict the\n"
          "                          held-out gliders with the baseline plus these effects at these\n"
          "                          values (units of \"parameters\", e.g. wind=-1,camera=0.03:2),\n"

@@ -267,15 +267,16 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profile"] is True
     assert camera_case[1]["options"]["profile_min_gliders"] == 6
     assert camera_case[1]["options"]["glider_guard"] is True
-    assert camera_case[1]["options"]["prefer_identifiable"] is True
+    assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
-    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--no-prefer-identifiable"])
+    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
     assert j["options"]["glider_guard"] is False
-    assert j["options"]["prefer_identifiable"] is False
+    assert j["options"]["prefer_identifiable"] is True
+    # null data: nothing significant, so nothing to pass over
     assert "passed_over" not in j
     assert all(e["cross_validation"]["robust_pass"] for e in j["effects"])
     assert j["verdict"] == "none", j["summary"]

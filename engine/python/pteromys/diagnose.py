@@ -22,7 +22,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
-             glider_guard=True, prefer_identifiable=True, threads=0, progress=None):
+             glider_guard=True, prefer_identifiable=False, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -42,10 +42,11 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``glider_guard`` (default True): an effect whose held-out shrink falls
     below ``min_shrink`` with one held-out glider left out and that improves
     at most half of the held-out gliders is not significant.
-    ``prefer_identifiable`` (default True): when the best significant effect
-    is indistinguishable from re-tuned coefficients and a significant one that
-    is not predicts the held-out gliders not significantly worse (paired over
-    gliders), the verdict names the latter (result key ``passed_over``).
+    ``prefer_identifiable`` (default False, experimental): when the best
+    significant effect is indistinguishable from re-tuned coefficients and a
+    significant one that is not predicts the held-out gliders not
+    significantly worse (paired over gliders), the verdict names the latter
+    (result key ``passed_over``).
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
