@@ -37,6 +37,26 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// One-sample t statistic of a mean against 0: mean / (s / sqrt(n)). With no
+// spread (every value the same) the t is +-kBigT by the mean's sign, 0 for a
+// mean of 0; with fewer than two values it is 0 (nothing to test).
+constexpr double kBigT = 1e12;
+struct MeanT {
+  double mean = 0, t = 0;
+};
+MeanT mean_and_t(const std::vector<double>& x) {
+  MeanT r;
+  const double n = static_cast<double>(x.size());
+  if (x.empty()) return r;
+  r.mean = std::accumulate(x.begin(), x.end(), 0.0) / n;
+  if (x.size() < 2) return r;
+  double v = 0;
+  for (double y : x) v += (y - r.mean) * (y - r.mean);
+  const double se = std::sqrt(v / (n - 1) / n);
+  r.t = se > 0 ? std::clamp(r.mean / se, -kBigT, kBigT) : (r.mean > 0 ? kBigT : (r.mean < 0 ? -kBigT : 0.0));
+  return r;
+}
+
 std::string fmt(double v, int prec = 3) {
   std::ostringstream s;
   s.precision(prec);
@@ -225,18 +245,24 @@ std::vector<int> reverse_tests(const std::vector<EffectResult>& effects, int ver
   if (also_out) *also_out = std::move(also);
   return reverse;
 }
+
+// Two per-glider lists of sums of squared residuals, one entry per glider:
+// the same length, every sum finite and non-negative (InputError naming
+// `what` otherwise).
+void check_glider_sums(const std::string& what, const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size())
+    throw InputError(what + ": " + std::to_string(a.size()) + " and " + std::to_string(b.size()) + " gliders' sums");
+  for (std::size_t g = 0; g < a.size(); ++g)
+    if (!(std::isfinite(a[g]) && a[g] >= 0 && std::isfinite(b[g]) && b[g] >= 0))
+      throw InputError(what + ": glider " + std::to_string(g) + "'s sum of squared residuals is negative or not finite");
+}
 }  // namespace
 
 std::pair<double, int> leave_one_glider_out_shrink(const std::vector<double>& baseline_sse,
                                                    const std::vector<double>& effect_sse) {
-  if (baseline_sse.size() != effect_sse.size())
-    throw InputError("leave-one-glider-out shrink: " + std::to_string(baseline_sse.size()) + " baseline sums but " +
-                     std::to_string(effect_sse.size()) + " effect sums");
+  check_glider_sums("leave-one-glider-out shrink", baseline_sse, effect_sse);
   double b = 0, e = 0;
   for (std::size_t g = 0; g < baseline_sse.size(); ++g) {
-    if (!(std::isfinite(baseline_sse[g]) && baseline_sse[g] >= 0 && std::isfinite(effect_sse[g]) && effect_sse[g] >= 0))
-      throw InputError("leave-one-glider-out shrink: glider " + std::to_string(g) +
-                       "'s sum of squared residuals is negative or not finite");
     b += baseline_sse[g];
     e += effect_sse[g];
   }
@@ -323,24 +349,12 @@ IdentifiablePreference prefer_identifiable(const std::vector<EffectResult>& effe
   if (alt < 0) return out;
   const auto& sb = glider_sse[best];
   const auto& sa = glider_sse[alt];
-  if (sb.size() != sa.size())
-    throw InputError("identifiability preference: " + std::to_string(sb.size()) + " and " + std::to_string(sa.size()) +
-                     " gliders' sums");
+  check_glider_sums("identifiability preference", sb, sa);
   std::vector<double> d;
-  for (std::size_t g = 0; g < sb.size(); ++g) {
-    if (!(std::isfinite(sb[g]) && sb[g] >= 0 && std::isfinite(sa[g]) && sa[g] >= 0))
-      throw InputError("identifiability preference: glider " + std::to_string(g) +
-                       "'s sum of squared residuals is negative or not finite");
-    d.push_back(sa[g] - sb[g]);
-  }
+  for (std::size_t g = 0; g < sb.size(); ++g) d.push_back(sa[g] - sb[g]);
   out.alternative = alt;
   if (d.size() < 2) return out;
-  const double m = std::accumulate(d.begin(), d.end(), 0.0) / static_cast<double>(d.size());
-  double v = 0;
-  for (double x : d) v += (x - m) * (x - m);
-  v /= static_cast<double>(d.size() - 1);
-  constexpr double big = 1e12;
-  out.t = v > 0 ? m / std::sqrt(v / static_cast<double>(d.size())) : (m > 0 ? big : (m < 0 ? -big : 0.0));
+  out.t = mean_and_t(d).t;
   const boost::math::students_t dist(static_cast<double>(d.size() - 1));
   out.t_critical = boost::math::quantile(boost::math::complement(dist, alpha));
   if (out.t < out.t_critical) {
@@ -1219,6 +1233,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return per_flight(E) ? static_cast<double>(f_ho) : static_cast<double>(effect_spec(E).parameters.size());
   };
   res.effects.resize(ne);
+  // Every effect's held-out sums of squared residuals per glider (in g0's
+  // order), for the glider guard and the identifiability preference.
+  std::vector<std::vector<double>> glider_sse(ne);
   for (int e = 0; e < ne; ++e) {
     const Effect E = o.effects[e];
     EffectResult& r = res.effects[e];
@@ -1264,12 +1281,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       r.glider_baseline_holdout_rmse_m.push_back({D.gliders()[g].key, std::sqrt(s0 / n)});
     }
     r.gliders_total = static_cast<int>(dg.size());
-    const double m = std::accumulate(dg.begin(), dg.end(), 0.0) / dg.size();
-    double v = 0;
-    for (double x : dg) v += (x - m) * (x - m);
-    v = dg.size() > 1 ? v / (dg.size() - 1) : 0.0;
-    r.glider_t = v > 0 ? m / std::sqrt(v / dg.size()) : 0.0;
+    r.glider_t = mean_and_t(dg).t;
     const auto [rs, rg] = leave_one_glider_out_shrink(b_sse, e_sse);
+    glider_sse[e] = e_sse;
     r.robust_shrink = rs;
     r.robust_without = rg >= 0 ? D.gliders()[keys[rg]].key : std::string();
     r.robust_pass = !o.glider_guard || rs >= o.min_shrink || 2 * r.gliders_improved > r.gliders_total;
@@ -1304,13 +1318,11 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       r.rate_mean_pass = false;
       continue;
     }
-    r.rate_mean = std::accumulate(rates.begin(), rates.end(), 0.0) / n;
-    double v = 0;
-    for (double x : rates) v += (x - r.rate_mean) * (x - r.rate_mean);
-    const double se = std::sqrt(v / (n - 1) / n);
-    r.rate_mean_t = se > 0 ? r.rate_mean / se : (r.rate_mean != 0 ? std::copysign(1e12, r.rate_mean) : 0.0);
+    const MeanT mt = mean_and_t(rates);
+    r.rate_mean = mt.mean;
+    r.rate_mean_t = mt.t;
     const boost::math::students_t dist(n - 1);
-    r.rate_mean_p = std::min(1.0, 2 * boost::math::cdf(boost::math::complement(dist, std::min(std::abs(r.rate_mean_t), 1e12))));
+    r.rate_mean_p = std::min(1.0, 2 * boost::math::cdf(boost::math::complement(dist, std::min(std::abs(r.rate_mean_t), kBigT))));
     r.rate_mean_pass = r.rate_mean_p < o.alpha / ne;
   }
   for (auto& r : res.effects)
@@ -1390,10 +1402,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // cross-validation's independent units).
   int passed_over = -1;
   if (o.prefer_identifiable) {
-    std::vector<std::vector<double>> gsse(ne);
-    for (int e = 0; e < ne; ++e)
-      for (const auto& kv : g0) gsse[e].push_back(ge[e][kv.first]);
-    const IdentifiablePreference ip = prefer_identifiable(res.effects, best, gsse, o.alpha);
+    const IdentifiablePreference ip = prefer_identifiable(res.effects, best, glider_sse, o.alpha);
     if (ip.passed_over >= 0) {
       passed_over = ip.passed_over;
       res.passed_over = res.effects[passed_over].name;
