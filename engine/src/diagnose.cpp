@@ -973,7 +973,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       const auto ws = start(at, staged);
       staged = held_out_fit(at, test, ho_trims, &ws);
     }
-    report("fold", (what.empty() ? std::string("held-out gliders") : what) + " carried to the model in steps: " +
+    report("fold", (what.empty() ? std::string() : what + ": ") + "held-out gliders carried to the model in steps: " +
                        cm(staged.rmse()) + " (directly " +
                        cm(direct.rmse()) + ", from " + cm(from.rmse()) + ")",
            false);
@@ -1077,14 +1077,14 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // at strength 2 these lines showed the 9 fits at 15 s of a fold; the
     // oracle and an overshooting profiled step were the slow parts.)
     for (int e = 0; e < ne; ++e) {
-      hos[e] = ho_fit(trs[e], base_ho, label + ": held-out gliders under " + effect_name(o.effects[e]));
+      hos[e] = ho_fit(trs[e], base_ho, label + ", " + effect_name(o.effects[e]));
       report("fold", label + ": held-out gliders under " + effect_name(o.effects[e]) + ": " + cm(hos[e].rmse()) +
                          " (" + std::to_string(e + 1) + "/" + std::to_string(ne) + ")",
              false);
     }
     if (improve_baseline(base_ho, hos, test))
       for (int e = 0; e < ne; ++e) {
-        FitOutcome again = ho_fit(trs[e], base_ho, label + ": held-out gliders under " + effect_name(o.effects[e]));
+        FitOutcome again = ho_fit(trs[e], base_ho, label + ", " + effect_name(o.effects[e]));
         if (again.sse < hos[e].sse) hos[e] = std::move(again);
       }
     if (!o.oracle.empty()) {
@@ -1128,7 +1128,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       for (int k = 1; k <= kSteps; ++k) {
         FitOutcome at = otr;
         at.model = scaled(otr.model, static_cast<double>(k) / kSteps);
-        oho = ho_fit_on(at, oho, test, ho_trims, label + ": the oracle's held-out gliders");
+        oho = ho_fit_on(at, oho, test, ho_trims, label + ", the oracle");
       }
       oracle_sse_ho += oho.sse;
       oracle_fold_rmse.push_back(oho.rmse());
@@ -1493,7 +1493,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         if (tr2[e].sse > bt.sse) tr2[e] = bt;
         dsse2_train[e] += bt.sse - tr2[e].sse;
         sse2_ho[e] += ho_fit_on(tr2[e], bh, fold_test[k], ho_trims,
-                                label + ": held-out gliders under " + effect_name(o.effects[e]))
+                                label + ", " + effect_name(o.effects[e]))
                           .sse;
       }
     }
