@@ -9,6 +9,7 @@ import csv
 import json
 import math
 import os
+import re
 
 import pytest
 
@@ -246,6 +247,36 @@ def test_progress_goes_to_stderr(camera_case):
     # One line per candidate while a fold's held-out gliders are fitted: 9
     # candidates in each of the 3 folds.
     assert len([l for l in lines if ": held-out gliders under " in l]) == 9 * 3
+
+
+def test_held_out_gliders_carried_in_steps_keep_the_better_fit(camera_case):
+    """docs/diagnosis.md, "Held-out gliders far from the model are carried to
+    it in steps": only when a candidate's direct held-out fit is worse than
+    the baseline's by more than the 5 % shrink margin (squared error over
+    1/0.95^2 times the baseline's) are the held-out gliders also fitted with
+    the effects brought in in steps, and the better of the two fits is the
+    candidate's held-out figure. Checked on every such line of the progress
+    (at the printed 0.1 cm, hence the 0.05 cm slack). On this small dataset
+    the stepped fit has so far equalled the direct one (9.2 cm both), so the
+    "better of the two" half only bites where they differ; the trigger half
+    fails if the margin is dropped (checked: 5.6 cm carried from 5.5 cm)."""
+    _, _, _, r = camera_case
+    lines = [l for l in r.stderr.splitlines() if l.startswith("[")]
+    carried = re.compile(r"\] \(\d+/\d+\) (fold \d+/\d+), (\w+): held-out gliders carried to the model in steps: "
+                         r"([\d.]+) cm \(directly ([\d.]+) cm, from ([\d.]+) cm\)")
+    checked = 0
+    for i, l in enumerate(lines[:-1]):
+        m = carried.search(l)
+        if not m:
+            continue
+        fold, effect, staged, direct, base = m.group(1), m.group(2), *map(float, m.group(3, 4, 5))
+        assert direct + 0.05 >= (base - 0.05) / 0.95, l  # carried only when clearly worse than the baseline
+        nxt = re.search(re.escape(fold) + r": held-out gliders under " + effect + r": ([\d.]+) cm", lines[i + 1])
+        if nxt:  # the candidate's figure (not a refit after the baseline improved)
+            assert float(nxt.group(1)) == pytest.approx(min(staged, direct), abs=1e-9), (l, lines[i + 1])
+            checked += 1
+    assert checked > 0, ("the camera dataset no longer makes any candidate predict its held-out gliders worse than "
+                         "the margin, so this test checks nothing; pick a case that does")
 
 
 def test_null_data_give_no_discovery(tmp_path):
