@@ -109,7 +109,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
-                                        "--oracle", "--profile-min-gliders"};
+                                        "--oracle", "--plausible", "--profile-min-gliders"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
@@ -163,6 +163,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.has("--launch-rotation"))
     o.launch_rotation_per_flight = launch_rotation_per_flight_from(a.get("--launch-rotation"), "--launch-rotation");
   if (a.has("--oracle")) o.oracle = oracle_from(a.get("--oracle"), "--oracle");
+  if (a.has("--plausible")) o.plausible = plausible_from(a.get("--plausible"), "--plausible");
   if (a.has("--model")) {
     const auto m = load_model(a.get("--model"));
     if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;
@@ -282,6 +283,11 @@ const bool registered_diagnose = register_command(
          "                          held-out gliders with the baseline plus these effects at these\n"
          "                          values (units of \"parameters\", e.g. wind=-1,camera=0.03:2),\n"
          "                          centre values refitted with them (\"oracle\" in the JSON)\n"
+         "  --plausible E=V[:V2],.. the largest size an effect's parameters may take and still be\n"
+         "                          that effect (units of \"parameters\"; inf: no limit); a fit\n"
+         "                          beyond it is not significant. Default camera=0.15:10 (scale\n"
+         "                          error, roll in degrees), e.g. camera=0.05:3 for a camera known\n"
+         "                          to within 5 % and 3 degrees\n"
          "  --no-full-fit           skip the fit to all gliders (faster; LR tests from the folds)\n"
          "  --worst-flights N       flights shown before/after in the report (default 6)\n"
          "  --threads N             worker threads (default: all cores)\n"

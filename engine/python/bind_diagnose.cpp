@@ -102,6 +102,8 @@ DiagnoseOptions options_from(const py::dict& kw) {
     o.launch_rotation_per_flight =
         launch_rotation_per_flight_from(kw["launch_rotation"].cast<std::string>(), "launch_rotation");
   if (kw.contains("oracle") && !kw["oracle"].is_none()) o.oracle = oracle_from(kw["oracle"].cast<std::string>(), "oracle");
+  if (kw.contains("plausible") && !kw["plausible"].is_none())
+    o.plausible = plausible_from(kw["plausible"].cast<std::string>(), "plausible");
   o.threads = whole("threads", 0, 0, 256);
   o.sim.ground_y = num("ground_y", 0.0);
   o.sim.dt = num("dt", o.sim.dt);

@@ -188,6 +188,15 @@ std::vector<double> effect_values(const EffectValues& v, Effect e) {
   return out;
 }
 
+// "scale_error 0.175 (plausible up to 0.15)" for the first parameter of v
+// beyond its limit (internal units), empty when all are plausible.
+std::string describe_implausible(Effect e, const std::vector<double>& v, const std::vector<double>& limits) {
+  const int i = implausible_parameter(e, v, &limits);
+  if (i < 0) return {};
+  const auto& p = effect_spec(e).parameters[i];
+  return p.name + " " + fmt(v[i] * p.to_report, 3) + " (plausible up to " + fmt(limits[i] * p.to_report, 3) + ")";
+}
+
 std::string describe_parameters(Effect e, const std::vector<double>& v) {
   const auto& sp = effect_spec(e);
   std::string s;
@@ -399,7 +408,11 @@ void check_oracle(const std::vector<std::pair<Effect, std::vector<double>>>& ora
 }
 }  // namespace
 
-std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::string& spec, const std::string& option) {
+namespace {
+// "EFFECT=V[:V2],..." as effects and their values (as written); `infinite`
+// allows "inf".
+std::vector<std::pair<Effect, std::vector<double>>> effect_values_from(const std::string& spec, const std::string& option,
+                                                                       bool infinite) {
   std::vector<std::pair<Effect, std::vector<double>>> out;
   std::stringstream items(spec);
   std::string item;
@@ -419,14 +432,44 @@ std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::strin
       } catch (const std::exception&) {
         used = 0;
       }
-      if (x.empty() || used != x.size() || !std::isfinite(y))
-        throw InputError(option + ": '" + x + "' in '" + item + "' is not a finite number");
+      if (x.empty() || used != x.size() || std::isnan(y) || (!infinite && !std::isfinite(y)))
+        throw InputError(option + ": '" + x + "' in '" + item + "' is not a " + std::string(infinite ? "number" : "finite number"));
       v.push_back(y);
     }
     out.emplace_back(e, v);
   }
   if (out.empty()) throw InputError(option + " needs EFFECT=VALUE (e.g. wind=-1)");
+  return out;
+}
+}  // namespace
+
+std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::string& spec, const std::string& option) {
+  auto out = effect_values_from(spec, option, false);
   check_oracle(out, option);
+  return out;
+}
+
+namespace {
+// Every effect once, with as many positive sizes as it has parameters.
+void check_plausible(const std::vector<std::pair<Effect, std::vector<double>>>& out, const std::string& option) {
+  std::set<Effect> seen;
+  for (const auto& [e, v] : out) {
+    const auto& sp = effect_spec(e);
+    if (!seen.insert(e).second) throw InputError(option + ": effect '" + effect_name(e) + "' is given twice");
+    if (v.size() != sp.parameters.size())
+      throw InputError(option + ": effect '" + effect_name(e) + "' takes " + std::to_string(sp.parameters.size()) +
+                       " value(s), given " + std::to_string(v.size()));
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!(v[i] > 0))
+        throw InputError(option + ": " + effect_name(e) + " " + sp.parameters[i].name + " " + fmt(v[i], 6) +
+                         " is not a positive size");
+  }
+}
+}  // namespace
+
+std::vector<std::pair<Effect, std::vector<double>>> plausible_from(const std::string& spec, const std::string& option) {
+  auto out = effect_values_from(spec, option, true);
+  check_plausible(out, option);
   return out;
 }
 
@@ -444,6 +487,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   if (!(o.none_tolerance >= 0)) throw InputError("the noise tolerance must not be negative");
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("phase limits must not be negative");
   check_oracle(o.oracle, "oracle");
+  check_plausible(o.plausible, "plausible");
   DiagFitOptions so = o.sim;
   so.threads = o.threads;
   const DiagnosisData D(d, so);
@@ -1273,6 +1317,19 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return per_flight(E) ? static_cast<double>(f_ho) : static_cast<double>(effect_spec(E).parameters.size());
   };
   res.effects.resize(ne);
+  // Each effect's plausible sizes (internal units): the library's, or the
+  // caller's (DiagnoseOptions::plausible).
+  std::vector<std::vector<double>> limits(ne);
+  std::vector<bool> own_limits(ne, false);
+  for (int e = 0; e < ne; ++e) {
+    for (const auto& p : effect_spec(o.effects[e]).parameters) limits[e].push_back(p.plausible);
+    for (const auto& [E, v] : o.plausible)
+      if (E == o.effects[e]) {
+        own_limits[e] = true;
+        for (std::size_t i = 0; i < v.size() && i < limits[e].size(); ++i)
+          limits[e][i] = v[i] / effect_spec(E).parameters[i].to_report;
+      }
+  }
   // Every effect's held-out sums of squared residuals per glider (in g0's
   // order), for the glider guard and the identifiability preference.
   std::vector<std::vector<double>> glider_sse(ne);
@@ -1327,6 +1384,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     r.robust_shrink = rs;
     r.robust_without = rg >= 0 ? D.gliders()[keys[rg]].key : std::string();
     r.robust_pass = !o.glider_guard || rs >= o.min_shrink || 2 * r.gliders_improved > r.gliders_total;
+    r.implausible = describe_implausible(E, r.parameters, limits[e]);
+    r.plausible = r.implausible.empty();
   }
   // The decision rule, the same in both rounds: the likelihood-ratio test
   // passed (Holm), the held-out RMSE shrank by the margin, and the held-out
@@ -1367,7 +1426,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   }
   for (auto& r : res.effects)
     r.significant =
-        decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass && r.robust_pass;
+        decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass && r.robust_pass &&
+        r.plausible;
 
   // ------------------------------------------------------------ identifiability
   report("analysis", "identifiability: effects against re-tuned coefficients and trims");
@@ -1511,6 +1571,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       g.delta_chi2 = std::max(0.0, dsse) / s2_eff;
       g.p_value = chi2_sf(g.delta_chi2, dof_fit_of(E));
       if (o.full_fit) g.parameters = effect_values(full2[e].model.effects, E);
+      g.plausible = implausible_parameter(E, g.parameters, &limits[e]) < 0;
       g.holdout_rmse_m = std::sqrt(sse2_ho[e] / n_ho);
       g.shrink = 1 - g.holdout_rmse_m / rb.holdout_rmse_m;
       const double s2_ho = std::max(s2, sse2_ho[e] / std::max(1.0, dof_ho - dof_ho_of(B) - dof_ho_of(E)));
@@ -1529,7 +1590,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     }
     for (int e : rest) {
       auto& g = res.effects[e].given_verdict;
-      g.significant = decided(g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold) && res.effects[e].rate_mean_pass;
+      g.significant = decided(g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold) &&
+                      res.effects[e].rate_mean_pass && g.plausible;
     }
     // The reverse test for each effect of `also`: is the verdict's effect
     // still needed once that one is in the model (joint fit against that
@@ -1583,6 +1645,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
           r.robust_without + " the shrink is " + pct(r.robust_shrink) + ", less than the " + pct(o.min_shrink) +
           " margin, and it improves only " + std::to_string(r.gliders_improved) + " of " +
           std::to_string(r.gliders_total) + " held-out gliders; one glider's misfit is not evidence of an effect";
+    else if (!r.plausible && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+      n = "fits and predicts better (shrink " + pct(r.shrink) + "), but at an implausible size, " + r.implausible +
+          (own_limits[static_cast<std::size_t>(&r - res.effects.data())]
+               ? std::string(", the limit given")
+               : ": " + effect_spec(r.effect).plausibility) +
+          ". More likely it absorbs another misfit (if the recording could be that far off, check it)";
     else if (r.shrink <= 0)
       n = "fits the training gliders better but predicts held-out gliders worse (shrink " + pct(r.shrink) + ")";
     else if (r.shrink < o.min_shrink && r.holdout_delta_chi2 > r.holdout_threshold)
@@ -1832,6 +1900,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                                                   {"glider_holdout_rmse_m", glider_map(e.glider_holdout_rmse_m)},
                                                   {"glider_baseline_holdout_rmse_m",
                                                    glider_map(e.glider_baseline_holdout_rmse_m)}}},
+                            {"plausible", e.plausible},
                             {"coefficient_collinearity", e.coefficient_collinearity},
                             {"indistinguishable_from_coefficients", e.indistinguishable},
                             {"confusable_with", conf},
@@ -1849,7 +1918,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
         gp[sp.parameters[i].name] = g.parameters[i] * sp.parameters[i].to_report;
       j["effects"].back()["given_verdict"] = {
           {"holdout_rmse_m", g.holdout_rmse_m}, {"shrink", g.shrink}, {"significant", g.significant},
-          {"parameters", gp},
+          {"parameters", gp}, {"plausible", g.plausible},
           {"likelihood_ratio", {{"delta_chi2", g.delta_chi2}, {"p_value", g.p_value}, {"holm_level", g.holm_level},
                                 {"pass", g.lr_pass}}},
           {"cross_validation", {{"delta_chi2", g.holdout_delta_chi2}, {"threshold", g.holdout_threshold}}},
@@ -1920,6 +1989,21 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profile_min_gliders", o.profile_min_gliders},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
+  // The plausible sizes in force (reported units; effects without a finite
+  // one are left out).
+  json lim = json::object();
+  for (Effect E : all_effects()) {
+    const auto& sp = effect_spec(E);
+    json par = json::object();
+    for (std::size_t i = 0; i < sp.parameters.size(); ++i) {
+      double v = sp.parameters[i].plausible * sp.parameters[i].to_report;
+      for (const auto& [F, w] : o.plausible)
+        if (F == E && i < w.size()) v = w[i];
+      if (std::isfinite(v)) par[sp.parameters[i].name] = v;
+    }
+    if (!par.empty()) lim[effect_name(E)] = par;
+  }
+  j["options"]["plausible"] = lim;
   j["timings"] = r.timings;
   return j;
 }

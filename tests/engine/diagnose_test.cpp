@@ -421,6 +421,19 @@ TEST(Diagnose, OracleWithTheTrueCorrectionPredictsToTheNoise) {
   DiagnoseOptions direct = small_diagnosis({Effect::Wind});  // set without oracle_from: diagnose() checks it too
   direct.oracle = {{Effect::Wind, {1.0, 2.0}}};
   EXPECT_THROW(diagnose(d, direct), InputError);
+
+  // Plausible sizes: the same "EFFECT=V[:V2]" form, each value positive
+  // ("inf" lifts a limit).
+  const auto lim = plausible_from("camera=0.05:3,wind=inf", "--plausible");
+  ASSERT_EQ(lim.size(), 2u);
+  EXPECT_EQ(lim[0].first, Effect::Camera);
+  EXPECT_DOUBLE_EQ(lim[0].second[1], 3.0);
+  EXPECT_TRUE(std::isinf(lim[1].second[0]));
+  for (const char* bad : {"", "camera=0.05", "camera=0.05:0", "camera=-0.05:3", "wind=nan", "wind=1,wind=2", "gust=1"})
+    EXPECT_THROW(plausible_from(bad, "--plausible"), InputError) << bad;
+  DiagnoseOptions neg = small_diagnosis({Effect::Wind});  // set directly: diagnose() checks it
+  neg.plausible = {{Effect::Wind, {-1.0}}};
+  EXPECT_THROW(diagnose(d, neg), InputError);
 }
 
 // The whole pipeline with launch rotation as a launch value (the default):

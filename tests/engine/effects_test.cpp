@@ -309,6 +309,32 @@ TEST(EffectAero, CameraMapsInvertEachOther) {
   }
 }
 
+// Plausible sizes: a camera calibrated in the flight plane errs in scale by
+// the glider's distance from it (2.5 % per 10 cm at 4 m, docs/capture.md:
+// 15 % is 60 cm) and in roll by the board's tilt (10 degrees); the other
+// effects are limited only by their fit bounds.
+TEST(EffectPlausibility, CameraErrorsBeyondACalibratedCamerasAreNamed) {
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {0.0, 0.0}), -1);
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {-0.149, deg2rad(9.9)}), -1);
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {0.175, deg2rad(8.7)}), 0);   // blind headwind's camera fit
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {-0.22, deg2rad(-3.0)}), 0);  // pitch damping + wind's
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {0.05, deg2rad(-10.5)}), 1);
+  EXPECT_FALSE(effect_spec(Effect::Camera).plausibility.empty());
+  // The caller's limits replace the library's.
+  const std::vector<double> tight = {0.01, deg2rad(0.5)};
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {0.02, 0.0}, &tight), 0);
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {0.005, deg2rad(1.0)}, &tight), 1);
+  EXPECT_EQ(implausible_parameter(Effect::Camera, {0.005, deg2rad(0.4)}, &tight), -1);
+  for (Effect e : all_effects()) {
+    if (e == Effect::Camera) continue;
+    const auto& sp = effect_spec(e);
+    std::vector<double> at_bound;
+    for (const auto& p : sp.parameters) at_bound.push_back(p.upper);
+    EXPECT_EQ(implausible_parameter(e, at_bound), -1) << sp.name;
+    EXPECT_TRUE(sp.plausibility.empty()) << sp.name;
+  }
+}
+
 TEST(EffectNames, AreTheSpecLibraryInOrder) {
   const char* names[] = {"pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect",
                          "launch_rotation", "added_mass", "wind", "camera"};

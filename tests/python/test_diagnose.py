@@ -113,6 +113,9 @@ def test_each_effects_note_states_its_own_tests(camera_case):
         elif (not cv["robust_pass"] and e.get("rate_mean", {}).get("pass", True) and e["shrink"] >= margin
               and cv["delta_chi2"] > cv["threshold"]):
             assert "rests on one glider" in n and cv["robust_without"] in n, (e["name"], n)
+        elif (not e["plausible"] and e.get("rate_mean", {}).get("pass", True) and e["shrink"] >= margin
+              and cv["delta_chi2"] > cv["threshold"]):
+            assert "implausible size" in n, (e["name"], n)
         elif e["shrink"] <= 0:
             assert "predicts held-out gliders worse" in n, (e["name"], n)
         elif e["shrink"] < margin and cv["delta_chi2"] > cv["threshold"]:
@@ -314,6 +317,40 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
 
 
+def test_the_camera_is_plausible_within_the_librarys_limits(camera_case):
+    """The truth (scale error 0.09, roll 6 degrees) is inside the library's
+    plausible camera (15 %, 10 degrees: docs/capture.md), so the fit that
+    found it is plausible and the limits in force are reported."""
+    _, j, _, _ = camera_case
+    assert j["options"]["plausible"]["camera"] == {"scale_error": pytest.approx(0.15), "roll_deg": pytest.approx(10)}
+    cam = next(e for e in j["effects"] if e["name"] == "camera")
+    assert cam["plausible"] is True
+
+
+def test_a_camera_error_beyond_the_given_limit_is_not_the_verdict(tmp_path, camera_case):
+    """The same flights (camera 9 % too close, rolled 6 degrees) diagnosed by
+    someone who says their camera is right to 1 % and 0.5 degrees: the camera
+    fit (any fit that finds a ninth of the truth) is beyond that, so the
+    camera is not significant and not the verdict although its three tests
+    pass, and its note says why. Wind as the one other candidate (fast)."""
+    ds = camera_case[0]
+    out = tmp_path / "limited.json"
+    r = run(["diagnose", ds, "--json", out, "--effects", "camera,wind", "--plausible", "camera=0.01:0.5"] + FAST)
+    assert r.returncode == 0, r.stderr[-2000:]
+    j = load(out)
+    assert j["options"]["plausible"]["camera"] == {"scale_error": pytest.approx(0.01), "roll_deg": pytest.approx(0.5)}
+    cam = next(e for e in j["effects"] if e["name"] == "camera")
+    p = cam["parameters"]
+    assert abs(p["scale_error"]) > 0.01 or abs(p["roll_deg"]) > 0.5, p
+    assert cam["plausible"] is False and cam["significant"] is False
+    cv = cam["cross_validation"]
+    assert cam["likelihood_ratio"]["pass"] and cam["shrink"] >= j["options"]["min_shrink"], cam["note"]
+    assert cv["delta_chi2"] > cv["threshold"] and cv["robust_pass"], cam["note"]
+    assert "implausible size" in cam["note"] and "the limit given" in cam["note"], cam["note"]
+    assert j["verdict"] != "camera", j["summary"]
+    assert "implausible size" in j["summary"] or j["verdict"] == "wind", j["summary"]
+
+
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
@@ -331,6 +368,9 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--oracle", "wind"], "EFFECT=VALUE"),
     (["diagnose", "DS", "--json", "OUT", "--oracle", "ground_effect=50"], "outside the effect's range"),
     (["diagnose", "DS", "--json", "OUT", "--oracle", "camera=0.03"], "takes 2 value(s)"),
+    (["diagnose", "DS", "--json", "OUT", "--plausible", "camera=0.03"], "takes 2 value(s)"),
+    (["diagnose", "DS", "--json", "OUT", "--plausible", "camera=0.05:-3"], "not a positive size"),
+    (["diagnose", "DS", "--json", "OUT", "--plausible", "wind=calm"], "not a number"),
     (["diagnose", "DS", "--json", "OUT", "--profile", "--no-profile"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
 ])

@@ -165,6 +165,12 @@ struct DiagnoseOptions {
   /// measured. Per-flight launch rotation: the value starts every flight's
   /// rate, which is then fitted as a launch value. Empty: no oracle.
   std::vector<std::pair<Effect, std::vector<double>>> oracle;
+  /// The largest size each listed effect's parameters may take and still be
+  /// that effect (reported units, as `oracle`; e.g. camera=0.05:3 for a
+  /// camera known to within 5 % and 3 degrees), replacing the library's own
+  /// (EffectParameter::plausible: the camera's 15 % and 10 degrees). A fit
+  /// beyond them is not significant (EffectResult::plausible).
+  std::vector<std::pair<Effect, std::vector<double>>> plausible;
   int threads = 0;                ///< 0 = all cores
 };
 
@@ -172,6 +178,9 @@ struct DiagnoseOptions {
 /// units, as in the diagnosis's "parameters"; e.g. "wind=-1,camera=0.03:2").
 /// Throws InputError naming what is wrong.
 std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::string& spec, const std::string& option);
+/// DiagnoseOptions::plausible from "EFFECT=V[:V2],..." (reported units, each
+/// value positive; "inf" lifts a limit). Throws InputError naming what is wrong.
+std::vector<std::pair<Effect, std::vector<double>>> plausible_from(const std::string& spec, const std::string& option);
 
 /// The oracle's result (DiagnoseOptions::oracle).
 struct OracleResult {
@@ -230,6 +239,12 @@ struct EffectResult {
   double robust_shrink = 0;
   std::string robust_without;
   bool robust_pass = true;
+  /// Plausibility: the fitted parameters (`parameters`) within the sizes
+  /// the effect plausibly has (EffectParameter::plausible): a fit beyond
+  /// them absorbs some other misfit and is not significant. `implausible`
+  /// says which and by how much (empty when plausible).
+  bool plausible = true;
+  std::string implausible;
   // Identifiability.
   double coefficient_collinearity = 0;   ///< R^2 of its signature on re-tuned coefficients (and trims), 0..1
   bool indistinguishable = false;
@@ -245,6 +260,7 @@ struct EffectResult {
     double holdout_delta_chi2 = 0, holdout_threshold = 0;
     bool significant = false;
     std::vector<double> parameters;  ///< this effect's, fitted with the verdict's on all gliders
+    bool plausible = true;           ///< `parameters` within the plausible sizes (EffectResult::plausible)
     /// The reverse test: the verdict's effect added to this one alone (shrink
     /// relative to this effect's held-out RMSE). When this effect is
     /// significant given the verdict's but the verdict's is not given this

@@ -46,6 +46,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -82,6 +83,10 @@ struct EffectParameter {
   /// undamped flight differ by metres), so a solver started at zero alone
   /// can stop in the baseline's basin.
   std::vector<double> starts;
+  /// The largest size (|value|, [unit]) the effect plausibly has in a real
+  /// recording; a fit beyond it is not taken as that effect
+  /// (EffectSpec::plausibility says why). Infinity: no limit but the bounds.
+  double plausible = std::numeric_limits<double>::infinity();
 };
 
 struct EffectSpec {
@@ -90,6 +95,8 @@ struct EffectSpec {
   std::string description;   ///< one line for a person
   EffectLevel level;
   std::vector<EffectParameter> parameters;  ///< 1 or 2
+  /// Why the parameters' plausible sizes are what they are (empty: no limits).
+  std::string plausibility{};
 };
 
 /// Every effect, in the spec's order.
@@ -98,6 +105,11 @@ const EffectSpec& effect_spec(Effect e);
 const std::string& effect_name(Effect e);
 /// Throws InputError naming the unknown effect and the known ones.
 Effect effect_from_name(const std::string& name);
+/// The first of `values` (effect_spec(e) order, internal units) whose size
+/// exceeds its plausible one, or -1 when all are plausible. `limits`
+/// (internal units, one per parameter) replaces the parameters' own
+/// EffectParameter::plausible when given.
+int implausible_parameter(Effect e, const std::vector<double>& values, const std::vector<double>* limits = nullptr);
 
 /// Strengths of every candidate effect; all zero = the baseline model. Any
 /// combination may be on at once (two-effect checks, the oracle).
