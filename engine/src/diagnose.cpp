@@ -1578,6 +1578,82 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       g.holdout_delta_chi2 = (sseB_ho - sse2_ho[e]) / s2_ho;
       g.holdout_threshold = chi2_isf(o.alpha / static_cast<double>(rest.size()), dof_ho_of(E));
     }
+    // The second round's fits keep the verdict's coefficients, which can have
+    // absorbed the second effect (blind pitch damping + wind, seed 42: pitch
+    // damping given the wind predicted the held-out gliders 9.6 % better,
+    // held-out delta chi2 512 against 10.4, but on all gliders it fitted at
+    // strength 0.02, p 0.11). A candidate that passes the held-out test and
+    // the margin but not the likelihood-ratio test is re-checked on all
+    // gliders as profiled starts do it in the first round: one linearised
+    // step on the trims, the centre values, the verdict's strengths and its
+    // own, a joint refit with the centre values, and the verdict's fit
+    // given the same chance (its own step, and the candidate's re-tuned
+    // centre values at the candidate's strength 0), so that only what the
+    // centre values cannot do is credited to the candidate.
+    if (o.full_fit && o.profile && o.polish <= 0 && centre_count(eff_full[best].model.coefficients) > 0 &&
+        profiled_on(static_cast<int>(D.gliders().size())))
+      for (int e : rest) {
+        EffectResult& r = res.effects[e];
+        EffectResult::Given& g = r.given_verdict;
+        const Effect E = o.effects[e];
+        if (per_flight(E) || g.p_value <= o.alpha / static_cast<double>(rest.size()) || g.shrink < o.min_shrink ||
+            !(g.holdout_delta_chi2 > g.holdout_threshold))
+          continue;
+        const std::string label = "all gliders, with " + effect_name(B);
+        const auto trims = trims_of(D, all_flights, o.trim);
+        std::vector<FreeParam> free = trims;
+        const auto centres = centre_values(eff_full[best].model.coefficients);
+        free.insert(free.end(), centres.begin(), centres.end());
+        free.insert(free.end(), extra.begin(), extra.end());
+        std::vector<int> base_cols(free.size());
+        std::iota(base_cols.begin(), base_cols.end(), 0);
+        std::vector<int> cols = base_cols;
+        for (const auto& p : params_of(E)) {
+          cols.push_back(static_cast<int>(free.size()));
+          free.push_back(p);
+        }
+        const FitOutcome& before = eff_full[best];
+        const Eigen::MatrixXd J = D.projected_jacobian(before, free);
+        std::vector<std::vector<DiagModel>> starts(ne);
+        for (double fraction : kStepFractions) starts[e].push_back(D.linear_step(before, free, J, cols, nullptr, fraction));
+        // The verdict's fit alone, its strengths free: its own step, then
+        // every re-tuned set of centre values the candidate leaves.
+        std::vector<FreeParam> b_free = extra;
+        b_free.insert(b_free.end(), trims.begin(), trims.end());
+        const auto w = launches_of(before);
+        FitOutcome b2 = before;
+        for (double fraction : kStepFractions) {
+          FitOutcome n = settled(D.linear_step(before, free, J, base_cols, nullptr, fraction), all_flights, b_free, &w);
+          if (n.sse < b2.sse - 0.2 * s2_noise) {
+            b2 = std::move(n);
+            break;
+          }
+        }
+        const FitOutcome cand = fit_effects(before, all_flights, label + ", re-checked", false, {e}, extra, true, &starts)[e];
+        if (cand.model.coefficients != before.model.coefficients) {
+          DiagModel m = cand.model;
+          for (std::size_t i = 0; i < params_of(E).size(); ++i) m.effects.at(E, static_cast<int>(i)) = 0.0;
+          const auto wc = launches_of(cand);
+          FitOutcome n = settled(m, all_flights, b_free, &wc);
+          if (n.sse < b2.sse) b2 = std::move(n);
+        }
+        const double dsse = b2.sse - cand.sse;
+        const double s2_eff = std::max(s2, cand.sse / std::max(1.0, dof_fit - dof_fit_of(B) - dof_fit_of(E)));
+        const double d2 = std::max(0.0, dsse) / s2_eff;
+        report("analysis", label + ": " + effect_name(E) + " re-checked with the centre values re-tuned (" +
+                               describe_parameters(E, effect_values(cand.model.effects, E)) + "): delta chi2 " +
+                               fmt(d2, 3) + " against " + effect_name(B) + " re-tuned alone (RMSE " + cm(cand.rmse()) +
+                               " against " + cm(b2.rmse()) + "; with the coefficients fixed: delta chi2 " +
+                               fmt(g.delta_chi2, 3) + ")",
+               false);
+        if (d2 > g.delta_chi2) {
+          g.delta_chi2 = d2;
+          g.p_value = chi2_sf(d2, dof_fit_of(E));
+          g.parameters = effect_values(cand.model.effects, E);
+          g.plausible = implausible_parameter(E, g.parameters, &limits[e]) < 0;
+          g.retuned = true;
+        }
+      }
     {
       std::vector<double> p, level;
       std::vector<bool> pass;
@@ -1918,7 +1994,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
         gp[sp.parameters[i].name] = g.parameters[i] * sp.parameters[i].to_report;
       j["effects"].back()["given_verdict"] = {
           {"holdout_rmse_m", g.holdout_rmse_m}, {"shrink", g.shrink}, {"significant", g.significant},
-          {"parameters", gp}, {"plausible", g.plausible},
+          {"parameters", gp}, {"plausible", g.plausible}, {"retuned", g.retuned},
           {"likelihood_ratio", {{"delta_chi2", g.delta_chi2}, {"p_value", g.p_value}, {"holm_level", g.holm_level},
                                 {"pass", g.lr_pass}}},
           {"cross_validation", {{"delta_chi2", g.holdout_delta_chi2}, {"threshold", g.holdout_threshold}}},

@@ -351,6 +351,31 @@ def test_a_camera_error_beyond_the_given_limit_is_not_the_verdict(tmp_path, came
     assert "implausible size" in j["summary"] or j["verdict"] == "wind", j["summary"]
 
 
+def test_second_round_re_checks_only_candidates_the_held_out_gliders_support(camera_case):
+    """The re-check with the centre values re-tuned (docs/diagnosis.md, "A
+    second effect") runs only for a candidate that passed the held-out test
+    and the margin given the verdict's effect, never for per-flight launch
+    rotation; every p-value given the verdict is the chi-square tail of its
+    delta chi2 (one degree of freedom per parameter), re-checked or not."""
+    _, j, _, _ = camera_case
+    margin = j["options"]["min_shrink"]
+    for e in j["effects"]:
+        g = e.get("given_verdict")
+        if not g:
+            continue
+        assert isinstance(g["retuned"], bool), e["name"]
+        if g["retuned"]:
+            assert e["name"] != "launch_rotation"
+            assert g["shrink"] >= margin and g["cross_validation"]["delta_chi2"] > g["cross_validation"]["threshold"]
+        if e["name"] == "launch_rotation":
+            continue
+        # p-value: the chi-square tail of delta chi2 with one degree of
+        # freedom per parameter (closed forms for 1 and 2).
+        d, k = g["likelihood_ratio"]["delta_chi2"], len(g["parameters"])
+        tail = math.erfc(math.sqrt(d / 2)) if k == 1 else math.exp(-d / 2)
+        assert g["likelihood_ratio"]["p_value"] == pytest.approx(tail, rel=1e-6, abs=1e-300), e["name"]
+
+
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)

@@ -261,6 +261,11 @@ struct EffectResult {
     bool significant = false;
     std::vector<double> parameters;  ///< this effect's, fitted with the verdict's on all gliders
     bool plausible = true;           ///< `parameters` within the plausible sizes (EffectResult::plausible)
+    /// The likelihood-ratio figures (and `parameters`) come from the
+    /// re-check with the centre values re-tuned (a candidate that passed the
+    /// held-out test and the margin but not the test with the verdict's
+    /// coefficients fixed; docs/diagnosis.md, "A second effect").
+    bool retuned = false;
     /// The reverse test: the verdict's effect added to this one alone (shrink
     /// relative to this effect's held-out RMSE). When this effect is
     /// significant given the verdict's but the verdict's is not given this
