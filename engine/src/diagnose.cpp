@@ -386,16 +386,24 @@ bool launch_rotation_per_flight_from(const std::string& value, const std::string
 }
 
 namespace {
-// Every effect once, with as many values as it has parameters, each inside
-// the effect's bounds (reported units).
-void check_oracle(const std::vector<std::pair<Effect, std::vector<double>>>& oracle, const std::string& option) {
+// Every effect of an "EFFECT=V[:V2]" list once, with as many values as it
+// has parameters (--oracle, --plausible).
+void check_effect_list(const std::vector<std::pair<Effect, std::vector<double>>>& list, const std::string& option) {
   std::set<Effect> seen;
-  for (const auto& [e, v] : oracle) {
+  for (const auto& [e, v] : list) {
     const auto& sp = effect_spec(e);
     if (!seen.insert(e).second) throw InputError(option + ": effect '" + effect_name(e) + "' is given twice");
     if (v.size() != sp.parameters.size())
       throw InputError(option + ": effect '" + effect_name(e) + "' takes " + std::to_string(sp.parameters.size()) +
                        " value(s), given " + std::to_string(v.size()));
+  }
+}
+
+// check_effect_list, and each value inside the effect's bounds (reported units).
+void check_oracle(const std::vector<std::pair<Effect, std::vector<double>>>& oracle, const std::string& option) {
+  check_effect_list(oracle, option);
+  for (const auto& [e, v] : oracle) {
+    const auto& sp = effect_spec(e);
     for (std::size_t i = 0; i < v.size(); ++i) {
       const auto& p = sp.parameters[i];
       const double x = v[i] / p.to_report;
@@ -450,20 +458,31 @@ std::vector<std::pair<Effect, std::vector<double>>> oracle_from(const std::strin
 }
 
 namespace {
-// Every effect once, with as many positive sizes as it has parameters.
+// check_effect_list, and every size positive.
 void check_plausible(const std::vector<std::pair<Effect, std::vector<double>>>& out, const std::string& option) {
-  std::set<Effect> seen;
+  check_effect_list(out, option);
   for (const auto& [e, v] : out) {
     const auto& sp = effect_spec(e);
-    if (!seen.insert(e).second) throw InputError(option + ": effect '" + effect_name(e) + "' is given twice");
-    if (v.size() != sp.parameters.size())
-      throw InputError(option + ": effect '" + effect_name(e) + "' takes " + std::to_string(sp.parameters.size()) +
-                       " value(s), given " + std::to_string(v.size()));
     for (std::size_t i = 0; i < v.size(); ++i)
       if (!(v[i] > 0))
         throw InputError(option + ": " + effect_name(e) + " " + sp.parameters[i].name + " " + fmt(v[i], 6) +
                          " is not a positive size");
   }
+}
+
+// Effect E's plausible sizes in force (internal units): the library's, or
+// the caller's (DiagnoseOptions::plausible; `own` says which).
+std::vector<double> plausible_limits(Effect E, const DiagnoseOptions& o, bool* own = nullptr) {
+  const auto& ps = effect_spec(E).parameters;
+  std::vector<double> lim;
+  for (const auto& p : ps) lim.push_back(p.plausible);
+  if (own) *own = false;
+  for (const auto& [F, v] : o.plausible)
+    if (F == E) {
+      if (own) *own = true;
+      for (std::size_t i = 0; i < v.size() && i < lim.size(); ++i) lim[i] = v[i] / ps[i].to_report;
+    }
+  return lim;
 }
 }  // namespace
 
@@ -1322,13 +1341,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   std::vector<std::vector<double>> limits(ne);
   std::vector<bool> own_limits(ne, false);
   for (int e = 0; e < ne; ++e) {
-    for (const auto& p : effect_spec(o.effects[e]).parameters) limits[e].push_back(p.plausible);
-    for (const auto& [E, v] : o.plausible)
-      if (E == o.effects[e]) {
-        own_limits[e] = true;
-        for (std::size_t i = 0; i < v.size() && i < limits[e].size(); ++i)
-          limits[e][i] = v[i] / effect_spec(E).parameters[i].to_report;
-      }
+    bool own = false;
+    limits[e] = plausible_limits(o.effects[e], o, &own);
+    own_limits[e] = own;
   }
   // Every effect's held-out sums of squared residuals per glider (in g0's
   // order), for the glider guard and the identifiability preference.
@@ -2071,12 +2086,9 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   for (Effect E : all_effects()) {
     const auto& sp = effect_spec(E);
     json par = json::object();
-    for (std::size_t i = 0; i < sp.parameters.size(); ++i) {
-      double v = sp.parameters[i].plausible * sp.parameters[i].to_report;
-      for (const auto& [F, w] : o.plausible)
-        if (F == E && i < w.size()) v = w[i];
-      if (std::isfinite(v)) par[sp.parameters[i].name] = v;
-    }
+    const auto limit = plausible_limits(E, o);
+    for (std::size_t i = 0; i < sp.parameters.size(); ++i)
+      if (std::isfinite(limit[i])) par[sp.parameters[i].name] = limit[i] * sp.parameters[i].to_report;
     if (!par.empty()) lim[effect_name(E)] = par;
   }
   j["options"]["plausible"] = lim;
