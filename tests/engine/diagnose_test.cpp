@@ -531,6 +531,42 @@ TEST(Diagnose, SecondRoundFindsTheSecondEffectAndOnlyIt) {
   EXPECT_EQ(j.at("also"), nlohmann::json::array({other}));
 }
 
+// The second round's re-check with the centre values re-tuned. Flights of
+// the model with pitch damping at its full size and a 1 m/s headwind, 2 mm
+// noise: the verdict's profiled centre values absorb the other effect, so
+// with them held fixed it fits a small part of its size in every fold and
+// fails the held-out test (seen: wind -0.04 to -0.10 m/s given pitch
+// damping, 0.4 % further held-out shrink). Re-checked with the centre values
+// re-tuned (and the verdict alone given the same chance) the second effect is
+// found at its true size, and the verdict's effect is still needed given it;
+// fuselage drag, absent from the flights, stays out.
+TEST(Diagnose, SecondRoundReChecksWithTheCentreValuesReTuned) {
+  EffectValues both;
+  both.wind = -1.0;
+  both.pitch_damping = 1.0;
+  DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind, Effect::FuselageDrag});
+  o.profile = true;
+  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
+  const DiagnoseResult r = diagnose(corrected_flights(both, 0.002, 5), o);
+  ASSERT_TRUE(r.verdict == "pitch_damping" || r.verdict == "wind") << r.summary;
+  const std::string other = r.verdict == "wind" ? "pitch_damping" : "wind";
+  ASSERT_EQ(r.also.size(), 1u) << r.summary;
+  EXPECT_EQ(r.also[0], other) << r.summary;
+  for (const auto& e : r.effects) {
+    if (e.name == other) {
+      EXPECT_TRUE(e.given_verdict.retuned);
+      EXPECT_TRUE(e.given_verdict.significant);
+      EXPECT_TRUE(e.given_verdict.verdict_still_needed);
+      ASSERT_EQ(e.given_verdict.parameters.size(), 1u);
+      // the truth: -1 m/s (wind), 1 (pitch damping)
+      if (other == "wind") EXPECT_NEAR(e.given_verdict.parameters[0], -1.0, 0.15);
+      else EXPECT_NEAR(e.given_verdict.parameters[0], 1.0, 0.2);
+    }
+    if (e.effect == Effect::FuselageDrag) EXPECT_FALSE(e.given_verdict.significant);
+  }
+  EXPECT_TRUE(r.replaced.empty());
+}
+
 // A polished fit (centre values free with an effect) pays for moving a value
 // away from the start model: with a very strong pull the values stay where
 // they were and the fit is the fixed-coefficient one; without it they move
