@@ -1676,7 +1676,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         centre_count((o.full_fit ? eff_full[best] : fold_trs[0][best]).model.coefficients) > 0;
     auto lr_passes = [&](const EffectResult::Given& g) { return g.p_value <= o.alpha / static_cast<double>(rest.size()); };
     auto holdout_passes = [&](const EffectResult::Given& g) {
-      return g.shrink >= o.min_shrink && g.holdout_delta_chi2 > g.holdout_threshold;
+      return decided(true, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
     };
     bool folds_profiled = true;
     for (int k = 0; k < K; ++k) folds_profiled = folds_profiled && profiled_on(gliders_of(fold_train[k]));
