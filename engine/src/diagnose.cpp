@@ -1115,6 +1115,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   std::vector<std::vector<int>> fold_train(K), fold_test(K);
   std::vector<std::vector<FitOutcome>> fold_trs(K), fold_hos(K);
   res.fold_gliders.resize(K);
+  auto fold_label = [&](int k) { return "fold " + std::to_string(k + 1) + "/" + std::to_string(K); };
   const auto tfolds = Clock::now();
   for (int k = 0; k < K; ++k) {
     std::set<std::string> keys;
@@ -1128,7 +1129,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         for (int f : D.gliders()[g].flights) train.push_back(f);
       }
     }
-    const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K);
+    const std::string label = fold_label(k);
     const auto model = coefficient_fit(keys, label);
     FitOutcome base_tr = fit_baseline(model, train);
     // The held-out gliders under the baseline's coefficients, their own
@@ -1581,7 +1582,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     std::vector<double> sse2_ho(ne, 0.0), dsse2_train(ne, 0.0);
     double sseB_ho = 0, sseB_train = 0;
     for (int k = 0; k < K; ++k) {
-      const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K) + ", with " + effect_name(B);
+      const std::string label = fold_label(k) + ", with " + effect_name(B);
       const FitOutcome& bt = fold_trs[k][best];
       std::vector<FitOutcome> tr2 = fit_effects(bt, fold_train[k], label, false, rest, extra, true);
       const FitOutcome& bh = fold_hos[k][best];
@@ -1688,7 +1689,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         if (per_flight(E) || !lr_passes(g) || holdout_passes(g)) continue;
         double cand_ho = 0, alone_ho = 0;
         for (int k = 0; k < K; ++k) {
-          const std::string label = "fold " + std::to_string(k + 1) + "/" + std::to_string(K) + ", with " + effect_name(B);
+          const std::string label = fold_label(k) + ", with " + effect_name(B);
           const Retuned r = retuned_pair(fold_trs[k][best], fold_train[k], e, label);
           const FitOutcome& bh = fold_hos[k][best];
           const auto ho_trims = trims_of(D, fold_test[k], o.trim);
