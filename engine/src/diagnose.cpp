@@ -1708,6 +1708,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                                " re-tuned alone (with the coefficients fixed: " + fmt(g.holdout_delta_chi2, 3) + ", " +
                                fmt(100 * g.shrink, 3) + " %)",
                false);
+        g.rechecked = true;
         if (d > g.holdout_delta_chi2) {
           g.holdout_delta_chi2 = d;
           g.holdout_rmse_m = std::sqrt(cand_ho / n_ho);
@@ -1735,6 +1736,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                                " against " + cm(r.alone.rmse()) + "; with the coefficients fixed: delta chi2 " +
                                fmt(g.delta_chi2, 3) + ")",
                false);
+        g.rechecked = true;
         if (d2 > g.delta_chi2 || g.retuned) {  // the folds' re-check: the fit that goes with it
           g.delta_chi2 = std::max(d2, g.delta_chi2);
           g.p_value = chi2_sf(g.delta_chi2, dof_fit_of(E));
@@ -1744,6 +1746,17 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
           full2[e] = r.cand;  // the reverse test's joint fit
         }
       }
+    // A re-checked candidate had two looks at the data, and the better of
+    // the two is kept: each of its two tests is made at half the level
+    // (Bonferroni over the looks), so that the chance of a candidate with
+    // no effect passing stays within the level a single look has.
+    for (int e : rest) {
+      EffectResult::Given& g = res.effects[e].given_verdict;
+      if (!g.rechecked) continue;
+      const Effect E = o.effects[e];
+      g.p_value = std::min(1.0, 2 * chi2_sf(g.delta_chi2, dof_fit_of(E)));
+      g.holdout_threshold = chi2_isf(o.alpha / (2.0 * static_cast<double>(rest.size())), dof_ho_of(E));
+    }
     {
       std::vector<double> p, level;
       std::vector<bool> pass;
@@ -2084,7 +2097,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
         gp[sp.parameters[i].name] = g.parameters[i] * sp.parameters[i].to_report;
       j["effects"].back()["given_verdict"] = {
           {"holdout_rmse_m", g.holdout_rmse_m}, {"shrink", g.shrink}, {"significant", g.significant},
-          {"parameters", gp}, {"plausible", g.plausible}, {"retuned", g.retuned},
+          {"parameters", gp}, {"plausible", g.plausible}, {"retuned", g.retuned}, {"rechecked", g.rechecked},
           {"likelihood_ratio", {{"delta_chi2", g.delta_chi2}, {"p_value", g.p_value}, {"holm_level", g.holm_level},
                                 {"pass", g.lr_pass}}},
           {"cross_validation", {{"delta_chi2", g.holdout_delta_chi2}, {"threshold", g.holdout_threshold}}},

@@ -266,6 +266,11 @@ struct EffectResult {
     /// held-out test and the margin but not the test with the verdict's
     /// coefficients fixed; docs/diagnosis.md, "A second effect").
     bool retuned = false;
+    /// The re-check ran (whether or not its figures were kept): the
+    /// candidate had two looks at the data, so `p_value` is twice the
+    /// chi-square tail of `delta_chi2` and `holdout_threshold` the quantile
+    /// at half the level (Bonferroni over the two looks).
+    bool rechecked = false;
     /// The reverse test: the verdict's effect added to this one alone (shrink
     /// relative to this effect's held-out RMSE). When this effect is
     /// significant given the verdict's but the verdict's is not given this
