@@ -244,7 +244,24 @@ def summarise(results):
     two = [(c, r) for c, r in results if len(c["truth"]) == 2]
     gap = [(c, r) for c, r in single if r["baseline"]["holdout_chi2_ratio"] > 1 + NONE_TOLERANCE]
     no_gap = [(c, r) for c, r in single if r["baseline"]["holdout_chi2_ratio"] <= 1 + NONE_TOLERANCE]
+    # Attributable in principle: the oracle (the baseline plus the true
+    # effect) predicts the held-out gliders better by at least the margin the
+    # diagnosis asks of a candidate. Where it does not, no candidate, the true
+    # one included, can be named without lowering the margin, so `none` or
+    # `unexplained` is the most a diagnosis can say there.
+    def margin_of(r):
+        return r.get("options", {}).get("min_shrink", 0.05)
+    closable = [(c, r) for c, r in single if "oracle" in r and r["oracle"]["shrink"] >= margin_of(r)]
+    unclosable = [(c, r) for c, r in single if "oracle" in r and r["oracle"]["shrink"] < margin_of(r)]
     return {"confusion": conf, "top1": top1, "single_nominal": len(nominal), "null_false": false_disc,
+            "closable_cases": len(closable),
+            "closable_top1": sum(1 for c, r in closable if r["verdict"] == c["truth"][0]),
+            "closable_misattributed": sum(1 for c, r in closable
+                                          if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
+            "unclosable_cases": len(unclosable),
+            "unclosable_no_effect": sum(1 for c, r in unclosable if r["verdict"] not in EFFECTS),
+            "unclosable_true": sum(1 for c, r in unclosable if r["verdict"] == c["truth"][0]),
+            "no_oracle_cases": sum(1 for c, r in single if "oracle" not in r),
             "gap_cases": len(gap), "gap_top1": sum(1 for c, r in gap if r["verdict"] == c["truth"][0]),
             "gap_misattributed": sum(1 for c, r in gap if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
             "no_gap_cases": len(no_gap), "no_gap_none": sum(1 for c, r in no_gap if r["verdict"] == "none"),
@@ -282,6 +299,14 @@ def markdown(s):
             "%d, verdict none in %d, an effect in %d.\n\n" % (
                 1 + NONE_TOLERANCE, s["gap_cases"], s["gap_top1"], s["gap_misattributed"], s["no_gap_cases"],
                 s["no_gap_none"], s["no_gap_false"]))
+    if s.get("closable_cases") or s.get("unclosable_cases"):
+        out += ("Single-effect datasets whose oracle (the baseline plus the true effect) predicts the held-out "
+                "gliders better by at least the margin, so that the effect can be named at all: %d; the true "
+                "effect is the verdict in %d, another effect in %d. Whose oracle does not: %d; verdict none or "
+                "unexplained in %d, the true effect in %d, another effect in %d. Without an oracle: %d.\n\n" % (
+                    s["closable_cases"], s["closable_top1"], s["closable_misattributed"], s["unclosable_cases"],
+                    s["unclosable_no_effect"], s["unclosable_true"],
+                    s["unclosable_cases"] - s["unclosable_no_effect"] - s["unclosable_true"], s["no_oracle_cases"]))
     if s["two_effect_cases"]:
         out += ("Two-effect datasets: %d; the verdict is one of the two in %d, both found (the verdict and the "
                 "other in the second round's `also`) in %d, both significant on their own in %d; effects outside "

@@ -137,7 +137,14 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
         _result([_effect("camera", True, 0.2, 50.0), _effect("wind", True, 0.1, 50.0)], 5.0),
     ]
     results[0]["oracle"] = {"shrink": 0.375}
+    results[2]["oracle"] = {"shrink": 0.02}  # under the 5 % margin: no diagnosis can name it
     s = rb.summarise(list(zip(cases, results)))
+    # Attributable in principle where the oracle closes at least the margin:
+    # wind at 1 (0.375, named); wind at 0.5 not (0.02, unexplained); the
+    # camera case has no oracle run.
+    assert (s["closable_cases"], s["closable_top1"], s["closable_misattributed"]) == (1, 1, 0)
+    assert (s["unclosable_cases"], s["unclosable_no_effect"], s["unclosable_true"]) == (1, 1, 0)
+    assert s["no_oracle_cases"] == 1
     assert s["single_nominal"] == 2 and s["top1"] == 1  # wind-0.5 is not at the main strength
     assert s["confusion"]["wind"]["wind"] == 1 and s["confusion"]["camera"]["wind"] == 1
     assert s["nulls"] == 2 and s["null_false"] == 1 and s["null_none"] == 1 and s["significant_effects_on_null"] == 1
@@ -159,3 +166,4 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
     md = rb.markdown(s)
     assert "Top-1 attribution at the main strength: 1 of 2" in md
     assert "null datasets with a false discovery: 1 of 2" in md
+    assert "so that the effect can be named at all: 1; the true effect is the verdict in 1" in md
