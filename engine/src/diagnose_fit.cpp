@@ -6,47 +6,20 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <thread>
 #include <cstdio>
 #include <cstdlib>
 
 #include "pteromys/mass.hpp"
 
+#include "parallel.hpp"
+
 namespace pteromys {
 namespace {
 
-template <class F>
-void parallel_for(int n, int threads, F&& f) {
-  if (threads <= 1 || n <= 1) {
-    for (int i = 0; i < n; ++i) f(i);
-    return;
-  }
-  std::atomic<int> next{0};
-  std::exception_ptr err;
-  std::mutex mu;
-  std::vector<std::thread> pool;
-  const int nt = std::min(threads, n);
-  for (int t = 0; t < nt; ++t)
-    pool.emplace_back([&] {
-      for (;;) {
-        const int i = next++;
-        if (i >= n) break;
-        try {
-          f(i);
-        } catch (...) {
-          std::lock_guard<std::mutex> lk(mu);
-          if (!err) err = std::current_exception();
-          next = n;
-        }
-      }
-    });
-  for (auto& th : pool) th.join();
-  if (err) std::rethrow_exception(err);
-}
+using detail::parallel_for;
 
 constexpr double kCoefScale[3] = {0.02, 0.1, 0.02};  // cd, cl, cm (as fit.cpp)
 constexpr double kHeightOffset = 1000.0;              // flights are simulated this high (no ground cut)
@@ -110,6 +83,24 @@ struct FitContext {
   FitContext(const DiagnosisData& d, const DiagnosisData::Impl& i, const std::vector<int>& f)
       : D(d), impl(i), flights(f), used(d.gliders().size(), 0) {
     for (int fi : flights) used[d.glider_of(fi)] = 1;
+  }
+
+  /// When any of `free` is a centre value: points this context at `m`'s RBF
+  /// model and returns the centre-value offsets u, all 0 (3 per centre);
+  /// otherwise an empty u.
+  std::vector<double> centre_offsets(const DiagModel& m, const std::vector<FreeParam>& free) {
+    bool coef = false;
+    for (const auto& p : free) coef = coef || p.kind == FreeParam::Coefficient;
+    if (!coef) return {};
+    rbf = std::dynamic_pointer_cast<const RbfModel>(m.coefficients);
+    if (!rbf) throw InputError("coefficient parameters need an RBF model");
+    values0.clear();
+    for (const auto& c : rbf->centres()) values0.push_back(c.value);
+    std::vector<double> u(3 * values0.size(), 0.0);
+    for (const auto& p : free)
+      if (p.kind == FreeParam::Coefficient && (p.index < 0 || p.index >= static_cast<int>(u.size())))
+        throw InputError("coefficient parameter out of range");
+    return u;
   }
 
   std::shared_ptr<const CoefficientModel> coefficients_of(const DiagModel& m, const std::vector<double>& u) const {
@@ -435,18 +426,8 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
   DiagModel model = start;
   if (model.trim.size() < gliders_.size()) model.trim.resize(gliders_.size(), 0.0);
   const int nl = launch_count(model.effects);
-  bool coef = false;
-  for (const auto& p : free) coef = coef || p.kind == FreeParam::Coefficient;
-  std::vector<double> u;
-  if (coef) {
-    C.rbf = std::dynamic_pointer_cast<const RbfModel>(start.coefficients);
-    if (!C.rbf) throw InputError("coefficient parameters need an RBF model");
-    for (const auto& c : C.rbf->centres()) C.values0.push_back(c.value);
-    u.assign(3 * C.values0.size(), 0.0);
-    for (const auto& p : free)
-      if (p.kind == FreeParam::Coefficient && (p.index < 0 || p.index >= static_cast<int>(u.size())))
-        throw InputError("coefficient parameter out of range");
-  }
+  std::vector<double> u = C.centre_offsets(start, free);
+  const bool coef = !u.empty();
   std::vector<double> scale(np), lo(np), hi(np);
   for (int k = 0; k < np; ++k) {
     scale[k] = this->scale(free[k]);
@@ -636,15 +617,7 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
   const int np = static_cast<int>(free.size());
   const DiagModel& model = at.model;
   const int nl = launch_count(model.effects);
-  bool coef = false;
-  for (const auto& p : free) coef = coef || p.kind == FreeParam::Coefficient;
-  std::vector<double> u;
-  if (coef) {
-    C.rbf = std::dynamic_pointer_cast<const RbfModel>(model.coefficients);
-    if (!C.rbf) throw InputError("coefficient parameters need an RBF model");
-    for (const auto& c : C.rbf->centres()) C.values0.push_back(c.value);
-    u.assign(3 * C.values0.size(), 0.0);
-  }
+  const std::vector<double> u = C.centre_offsets(model, free);
   auto aero = C.tables(model.coefficients);
   auto S = C.setup(model, aero);
   std::vector<std::unique_ptr<Setup>> Sp(np);

@@ -22,9 +22,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
-#include <mutex>
 #include <sstream>
 #include <thread>
 
@@ -34,6 +32,8 @@
 #include "pteromys/elements.hpp"
 #include "pteromys/fit.hpp"
 #include "pteromys/mass.hpp"
+
+#include "parallel.hpp"
 
 namespace pteromys {
 namespace {
@@ -48,35 +48,7 @@ std::string fmt(double v, int prec = 4) {
   return s.str();
 }
 
-/// Runs f(0..n-1) on up to `threads` threads; rethrows the first exception.
-template <class F>
-void parallel_for(int n, int threads, F&& f) {
-  if (threads <= 1 || n <= 1) {
-    for (int i = 0; i < n; ++i) f(i);
-    return;
-  }
-  std::atomic<int> next{0};
-  std::exception_ptr err;
-  std::mutex mu;
-  std::vector<std::thread> pool;
-  const int nt = std::min(threads, n);
-  for (int t = 0; t < nt; ++t)
-    pool.emplace_back([&] {
-      for (;;) {
-        const int i = next++;
-        if (i >= n) break;
-        try {
-          f(i);
-        } catch (...) {
-          std::lock_guard<std::mutex> lk(mu);
-          if (!err) err = std::current_exception();
-          next = n;
-        }
-      }
-    });
-  for (auto& th : pool) th.join();
-  if (err) std::rethrow_exception(err);
-}
+using detail::parallel_for;
 
 /// Scale of each coefficient in the solver's units: cd, cl, cm.
 constexpr double kScale[3] = {0.02, 0.1, 0.02};
