@@ -169,23 +169,26 @@ Fit fit_points(const std::vector<Vec2>& w, const std::vector<Vec2>& im, const st
     }
   };
   VectorXd r, rt;
+  // Central differences, column by column.
+  auto jacobian = [&](const VectorXd& at, MatrixXd& Jout) {
+    VectorXd up, down;
+    for (int k = 0; k < np; ++k) {
+      const double step = 1e-7 * std::max(1.0, std::abs(at(k)));
+      VectorXd q = at;
+      q(k) += step;
+      residual(q, up);
+      q(k) = at(k) - step;
+      residual(q, down);
+      Jout.col(k) = (up - down) / (2 * step);
+    }
+  };
   residual(p, r);
   double cost = r.squaredNorm();
   double mu = 1e-3;
   MatrixXd J(2 * n, np);
   bool converged = false;
   for (int it = 0; it < 200; ++it) {
-    for (int k = 0; k < np; ++k) {
-      const double step = 1e-7 * std::max(1.0, std::abs(p(k)));
-      VectorXd q = p;
-      q(k) += step;
-      residual(q, rt);
-      VectorXd q2 = p;
-      q2(k) -= step;
-      VectorXd rt2;
-      residual(q2, rt2);
-      J.col(k) = (rt - rt2) / (2 * step);
-    }
+    jacobian(p, J);
     const MatrixXd jtj = J.transpose() * J;
     const VectorXd g = J.transpose() * r;
     bool improved = false;
@@ -221,17 +224,7 @@ Fit fit_points(const std::vector<Vec2>& w, const std::vector<Vec2>& im, const st
   // Uncertainty of the distortion at the image corner (r = 1), from the
   // Gauss-Newton covariance with the clicking accuracy as noise.
   if (nd > 0) {
-    for (int k = 0; k < np; ++k) {
-      const double step = 1e-7 * std::max(1.0, std::abs(p(k)));
-      VectorXd q = p;
-      q(k) += step;
-      residual(q, rt);
-      VectorXd q2 = p;
-      q2(k) -= step;
-      VectorXd rt2;
-      residual(q2, rt2);
-      J.col(k) = (rt - rt2) / (2 * step);
-    }
+    jacobian(p, J);
     const MatrixXd cov = (J.transpose() * J).completeOrthogonalDecomposition().pseudoInverse() *
                          (click_sigma_px * click_sigma_px);
     // displacement at the corner: s * (k1 + k2)
