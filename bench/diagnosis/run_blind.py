@@ -265,12 +265,17 @@ def summarise(results):
             "gap_cases": len(gap), "gap_top1": sum(1 for c, r in gap if r["verdict"] == c["truth"][0]),
             "gap_misattributed": sum(1 for c, r in gap if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
             "no_gap_cases": len(no_gap), "no_gap_none": sum(1 for c, r in no_gap if r["verdict"] == "none"),
-            "no_gap_false": sum(1 for c, r in no_gap if r["verdict"] in EFFECTS),
+            "no_gap_false": sum(1 for c, r in no_gap if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
+            "no_gap_true": sum(1 for c, r in no_gap if r["verdict"] == c["truth"][0]),
             "two_effect_cases": len(two),
             "two_effect_verdict_in_truth": sum(1 for c, r in two if r["verdict"] in c["truth"]),
             "two_effect_both_found": sum(1 for c, r in two if set(c["truth"]) <= {r["verdict"]} | set(r.get("also", []))),
             "also_outside_truth": sum(sum(1 for a in r.get("also", []) if a not in c["truth"]) for c, r in results),
-            "second_round_cases": sum(1 for c, r in results if "also" in r),
+            # the second round ran: some effect was tested given the verdict's
+            # (older JSON without `given_verdict`: the key `also` was written
+            # only by engines that had the round)
+            "second_round_cases": sum(1 for c, r in results if any(e.get("given_verdict") for e in r["effects"]) or
+                                      ("also" in r and r["verdict"] in EFFECTS)),
             "two_effect_both_significant": sum(1 for c, r in two if all(
                 e["significant"] for e in r["effects"] if e["name"] in c["truth"])),
             "two_effect_wrong_significant": sum(sum(1 for e in r["effects"] if e["significant"] and
@@ -296,9 +301,9 @@ def markdown(s):
                s["significant_effects_on_null"])
     out += ("Single-effect datasets with a real gap (baseline held-out chi-square ratio > %.1f): %d; the true effect "
             "is the verdict in %d, another effect in %d. Without a gap (the re-tuned coefficients absorb the effect): "
-            "%d, verdict none in %d, an effect in %d.\n\n" % (
+            "%d, verdict none in %d, the true effect in %d, another effect in %d.\n\n" % (
                 1 + NONE_TOLERANCE, s["gap_cases"], s["gap_top1"], s["gap_misattributed"], s["no_gap_cases"],
-                s["no_gap_none"], s["no_gap_false"]))
+                s["no_gap_none"], s.get("no_gap_true", 0), s["no_gap_false"]))
     if s.get("closable_cases") or s.get("unclosable_cases"):
         out += ("Single-effect datasets whose oracle (the baseline plus the true effect) predicts the held-out "
                 "gliders better by at least the margin, so that the effect can be named at all: %d; the true "

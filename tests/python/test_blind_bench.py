@@ -167,3 +167,24 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
     assert "Top-1 attribution at the main strength: 1 of 2" in md
     assert "null datasets with a false discovery: 1 of 2" in md
     assert "so that the effect can be named at all: 1; the true effect is the verdict in 1" in md
+
+
+def test_summary_tells_a_right_answer_without_a_gap_from_a_wrong_one_and_counts_second_rounds():
+    # Without a gap (held-out chi-square ratio 1.2, under 1.3) the camera
+    # named on camera data is the true effect, wind on camera data another;
+    # only a diagnosis that tested an effect given the verdict's ran the
+    # second round.
+    cases = [rb.case_of("camera-1-s22"), rb.case_of("camera-1-s24"), rb.case_of("null-s32")]
+    right = _result([_effect("camera", True, 0.06, 50.0), _effect("wind", False, 0.0, 0.0)], 1.2)
+    right.update(verdict="camera", also=[])
+    right["effects"][1]["given_verdict"] = {"shrink": 0.0}
+    wrong = _result([_effect("wind", True, 0.06, 50.0), _effect("camera", False, 0.0, 0.0)], 1.2)
+    null = _result([_effect("wind", False, 0.0, 0.0)], 1.1)
+    null.update(verdict="none", also=[])
+    for r in (right, null):  # the engine's own decision, as its JSON has it
+        for e in r["effects"]:
+            e["significant"] = e["name"] == r["verdict"]
+    s = rb.summarise(list(zip(cases, [right, wrong, null])))
+    assert (s["no_gap_cases"], s["no_gap_true"], s["no_gap_false"], s["no_gap_none"]) == (2, 1, 1, 0)
+    assert s["second_round_cases"] == 1
+    assert "verdict none in 0, the true effect in 1, another effect in 1" in rb.markdown(s)
