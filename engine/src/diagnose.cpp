@@ -1738,8 +1738,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                false);
         g.rechecked = true;
         if (d2 > g.delta_chi2 || g.retuned) {  // the folds' re-check: the fit that goes with it
-          g.delta_chi2 = std::max(d2, g.delta_chi2);
-          g.p_value = chi2_sf(g.delta_chi2, dof_fit_of(E));
+          g.delta_chi2 = std::max(d2, g.delta_chi2);  // its p-value: below, at two looks
           g.parameters = effect_values(r.cand.model.effects, E);
           g.plausible = implausible_parameter(E, g.parameters, &limits[e]) < 0;
           g.retuned = true;
