@@ -261,6 +261,8 @@ def summarise(results):
             "unclosable_cases": len(unclosable),
             "unclosable_no_effect": sum(1 for c, r in unclosable if r["verdict"] not in EFFECTS),
             "unclosable_true": sum(1 for c, r in unclosable if r["verdict"] == c["truth"][0]),
+            "unclosable_misattributed": sum(1 for c, r in unclosable
+                                            if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
             "no_oracle_cases": sum(1 for c, r in single if "oracle" not in r),
             "gap_cases": len(gap), "gap_top1": sum(1 for c, r in gap if r["verdict"] == c["truth"][0]),
             "gap_misattributed": sum(1 for c, r in gap if r["verdict"] in EFFECTS and r["verdict"] != c["truth"][0]),
@@ -303,15 +305,15 @@ def markdown(s):
             "is the verdict in %d, another effect in %d. Without a gap (the re-tuned coefficients absorb the effect): "
             "%d, verdict none in %d, the true effect in %d, another effect in %d.\n\n" % (
                 1 + NONE_TOLERANCE, s["gap_cases"], s["gap_top1"], s["gap_misattributed"], s["no_gap_cases"],
-                s["no_gap_none"], s.get("no_gap_true", 0), s["no_gap_false"]))
+                s["no_gap_none"], s["no_gap_true"], s["no_gap_false"]))
     if s.get("closable_cases") or s.get("unclosable_cases"):
         out += ("Single-effect datasets whose oracle (the baseline plus the true effect) predicts the held-out "
                 "gliders better by at least the margin, so that the effect can be named at all: %d; the true "
                 "effect is the verdict in %d, another effect in %d. Whose oracle does not: %d; verdict none or "
                 "unexplained in %d, the true effect in %d, another effect in %d. Without an oracle: %d.\n\n" % (
                     s["closable_cases"], s["closable_top1"], s["closable_misattributed"], s["unclosable_cases"],
-                    s["unclosable_no_effect"], s["unclosable_true"],
-                    s["unclosable_cases"] - s["unclosable_no_effect"] - s["unclosable_true"], s["no_oracle_cases"]))
+                    s["unclosable_no_effect"], s["unclosable_true"], s["unclosable_misattributed"],
+                    s["no_oracle_cases"]))
     if s["two_effect_cases"]:
         out += ("Two-effect datasets: %d; the verdict is one of the two in %d, both found (the verdict and the "
                 "other in the second round's `also`) in %d, both significant on their own in %d; effects outside "

@@ -143,7 +143,8 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
     # wind at 1 (0.375, named); wind at 0.5 not (0.02, unexplained); the
     # camera case has no oracle run.
     assert (s["closable_cases"], s["closable_top1"], s["closable_misattributed"]) == (1, 1, 0)
-    assert (s["unclosable_cases"], s["unclosable_no_effect"], s["unclosable_true"]) == (1, 1, 0)
+    assert (s["unclosable_cases"], s["unclosable_no_effect"], s["unclosable_true"],
+            s["unclosable_misattributed"]) == (1, 1, 0, 0)
     assert s["no_oracle_cases"] == 1
     assert s["single_nominal"] == 2 and s["top1"] == 1  # wind-0.5 is not at the main strength
     assert s["confusion"]["wind"]["wind"] == 1 and s["confusion"]["camera"]["wind"] == 1
