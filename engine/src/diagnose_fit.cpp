@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -79,6 +80,11 @@ struct FitContext {
   std::shared_ptr<const RbfModel> rbf;  // for coefficient parameters
   std::vector<Coefficients> values0;    // centre values of rbf
   mutable std::atomic<long> sims{0}, refines{0}, refine_iterations{0};
+  /// Simulations spent in multi-started launch fits: by trials' fallbacks
+  /// (how many, how many kept) and by refreshes. With the environment
+  /// variable PTEROMYS_FIT_STATS set, every fit prints them to stderr (where
+  /// a slow diagnosis spends its time; docs/diagnosis.md, Speed).
+  mutable std::atomic<long> fallback_sims{0}, refresh_sims{0}, fallbacks{0}, fallbacks_helped{0};
 
   FitContext(const DiagnosisData& d, const DiagnosisData::Impl& i, const std::vector<int>& f)
       : D(d), impl(i), flights(f), used(d.gliders().size(), 0) {
@@ -230,7 +236,8 @@ struct FitContext {
   }
 
   /// Multi-start launch fit (eq. 5 from pitch = path + {-3, 1, 5} deg).
-  LaunchParams cold_launch(const Setup& s, int fi) const {
+  /// `evaluations`: if given, the simulations it ran are added.
+  LaunchParams cold_launch(const Setup& s, int fi, std::atomic<long>* evaluations = nullptr) const {
     const int g = D.glider_of(fi);
     const auto pts = world_points(s, fi);
     LaunchFitOptions lo;
@@ -249,6 +256,7 @@ struct FitContext {
       st.pitch = guess.climb + deg2rad(a);
       const LaunchFit lf = fit_launch(*s.ea[g], D.gliders()[g].body, pts, lo, &st);
       sims += lf.evaluations;
+      if (evaluations) *evaluations += lf.evaluations;
       if (lf.rmse_m < best.rmse_m) best = lf;
     }
     if (!s.ev.launch_rotation_per_flight) best.launch.pitch_rate = s.ev.launch_rotation;
@@ -266,10 +274,12 @@ struct FitContext {
       refine_launch(s, fi, L, r, 10);
       const double expect = s2 * std::max(1.0, static_cast<double>(r.size()) - 5.0);
       if (fallback && r.squaredNorm() > 1.5 * expect && !(r.squaredNorm() <= 1.02 * previous_sse)) {
-        LaunchParams c = cold_launch(s, fi);
+        LaunchParams c = cold_launch(s, fi, &fallback_sims);
         Eigen::VectorXd rc;
         residuals(s, fi, c, rc);
+        ++fallbacks;
         if (rc.squaredNorm() < r.squaredNorm()) {
+          ++fallbacks_helped;
           L = c;
           r = rc;
         }
@@ -307,7 +317,7 @@ struct FitContext {
     parallel_for(n, D.threads(), [&](int k) {
       const double expect = s2 * std::max(1.0, static_cast<double>(R[k].size()) - 5.0);
       if (!(R[k].squaredNorm() > 2 * expect)) return;
-      LaunchParams c = cold_launch(s, flights[k]);
+      LaunchParams c = cold_launch(s, flights[k], &refresh_sims);
       Eigen::VectorXd r;
       refine_launch(s, flights[k], c, r, 1);
       if (r.squaredNorm() < R[k].squaredNorm()) {
@@ -418,6 +428,7 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
   const int iterations_max = max_iterations > 0 ? max_iterations : o_.max_iterations;
   if (flights.empty()) throw InputError("no flights to fit");
   if (!start.coefficients) throw InputError("no coefficient model");
+  const auto t_start = std::chrono::steady_clock::now();
   FitContext C(*this, *impl_, flights);
   const int nf = static_cast<int>(flights.size());
   const int np = static_cast<int>(free.size());
@@ -606,6 +617,14 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
   out.free_parameters = np;
   out.iterations = iterations;
   out.simulations = C.sims;
+  if (std::getenv("PTEROMYS_FIT_STATS"))
+    std::fprintf(stderr,
+                 "fit: %d flights, %d free, %d iterations, %.1f s: %ld simulations, %ld in %ld trial fallbacks "
+                 "(%ld kept), %ld in refreshes; rmse %.4g m\n",
+                 nf, np, iterations, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(),
+                 static_cast<long>(C.sims), static_cast<long>(C.fallback_sims), static_cast<long>(C.fallbacks),
+                 static_cast<long>(C.fallbacks_helped),
+                 static_cast<long>(C.refresh_sims), out.rmse());
   return out;
 }
 
