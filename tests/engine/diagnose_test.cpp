@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <utility>
@@ -162,6 +164,45 @@ TEST(DiagnosisFit, RecoversTheTrueStrengthOfItsOwnFlights) {
     EXPECT_NEAR(r.model.effects.at(c.e, 0), c.value, c.tol) << effect_name(c.e);
     EXPECT_LT(r.rmse(), 2e-3) << effect_name(c.e);
   }
+}
+
+// PTEROMYS_FIT_STATS (docs/diagnosis.md, Speed): every fit prints one line
+// whose simulation count is the fit's own (FitOutcome::simulations, counted
+// apart from the line's), with the multi-started launch fits' share of it no
+// larger than the whole; without the variable nothing is printed.
+TEST(DiagnosisFit, FitStatsLineAgreesWithTheFit) {
+  EffectValues truth;
+  truth.at(Effect::Wind, 0) = -1.5;
+  const Dataset d = corrected_flights(truth, 0.0);
+  const DiagnosisData D(d, quick());
+  const std::vector<FreeParam> free{FreeParam::effect_param(Effect::Wind, 0)};
+  ::unsetenv("PTEROMYS_FIT_STATS");
+  testing::internal::CaptureStderr();
+  D.fit({default_model(), {}, {}}, all_flights(d), free);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  ::setenv("PTEROMYS_FIT_STATS", "1", 1);
+  testing::internal::CaptureStderr();
+  const FitOutcome r = D.fit({default_model(), {}, {}}, all_flights(d), free);
+  const std::string line = testing::internal::GetCapturedStderr();
+  ::unsetenv("PTEROMYS_FIT_STATS");
+  int flights = 0, np = 0, iterations = 0;
+  double seconds = 0, rmse = 0;
+  long sims = 0, fb_sims = 0, fbs = 0, kept = 0, refresh = 0;
+  ASSERT_EQ(std::sscanf(line.c_str(),
+                        "fit: %d flights, %d free, %d iterations, %lf s: %ld simulations, %ld in %ld trial fallbacks "
+                        "(%ld kept), %ld in refreshes; rmse %lf m",
+                        &flights, &np, &iterations, &seconds, &sims, &fb_sims, &fbs, &kept, &refresh, &rmse),
+            10)
+      << line;
+  EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << line;
+  EXPECT_EQ(flights, static_cast<int>(all_flights(d).size()));
+  EXPECT_EQ(np, 1);
+  EXPECT_EQ(iterations, r.iterations);
+  EXPECT_EQ(sims, r.simulations);
+  EXPECT_GE(seconds, 0.0);
+  EXPECT_LE(fb_sims + refresh, sims);
+  EXPECT_LE(kept, fbs);
+  EXPECT_NEAR(rmse, r.rmse(), 1e-3 * r.rmse() + 1e-12);
 }
 
 // Launch rotation as a launch value: every flight's own pitch rate (here
