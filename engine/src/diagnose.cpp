@@ -1165,6 +1165,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       return ho_fit_on(tr, from, test, ho_trims, what);
     };
     std::vector<FitOutcome> hos(ne);
+    auto of_ne = [&](int e) { return " (" + std::to_string(e + 1) + "/" + std::to_string(ne) + ")"; };
     // One line per candidate as its held-out gliders are fitted: with
     // re-tuned centre values a held-out glider can need its trim restarted
     // (held_out_fit), which can take minutes. (On the blind finite-span data
@@ -1172,8 +1173,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // oracle and an overshooting profiled step were the slow parts.)
     for (int e = 0; e < ne; ++e) {
       hos[e] = ho_fit(trs[e], base_ho, label + ", " + effect_name(o.effects[e]));
-      report("fold", label + ": held-out gliders under " + effect_name(o.effects[e]) + ": " + cm(hos[e].rmse()) +
-                         " (" + std::to_string(e + 1) + "/" + std::to_string(ne) + ")",
+      report("fold", label + ": held-out gliders under " + effect_name(o.effects[e]) + ": " + cm(hos[e].rmse()) + of_ne(e),
              false);
     }
     // A held-out baseline improved from the candidates' launches and trims
@@ -1187,7 +1187,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         FitOutcome again = ho_fit(trs[e], base_ho, label + ", " + effect_name(o.effects[e]));
         report("fold", label + ": held-out gliders under " + effect_name(o.effects[e]) + " again: " +
                            cm(again.rmse()) + (again.sse < hos[e].sse ? " (kept)" : " (was " + cm(hos[e].rmse()) + ")") +
-                           " (" + std::to_string(e + 1) + "/" + std::to_string(ne) + ")",
+                           of_ne(e),
                false);
         if (again.sse < hos[e].sse) hos[e] = std::move(again);
       }

@@ -80,8 +80,9 @@ struct FitContext {
   std::shared_ptr<const RbfModel> rbf;  // for coefficient parameters
   std::vector<Coefficients> values0;    // centre values of rbf
   mutable std::atomic<long> sims{0}, refines{0}, refine_iterations{0};
-  /// Simulations spent in multi-started launch fits: by trials' fallbacks
-  /// (how many, how many kept) and by refreshes. With the environment
+  /// Simulations spent in multi-started launch fits, with the residuals and
+  /// refinement that follow each: by trials' fallbacks (how many, how many
+  /// kept) and by refreshes. With the environment
   /// variable PTEROMYS_FIT_STATS set, every fit prints them to stderr (where
   /// a slow diagnosis spends its time; docs/diagnosis.md, Speed).
   mutable std::atomic<long> fallback_sims{0}, refresh_sims{0}, fallbacks{0}, fallbacks_helped{0};
@@ -167,7 +168,9 @@ struct FitContext {
   }
 
   /// Residuals (camera frame) of flight fi with launch L; optionally the track.
-  void residuals(const Setup& s, int fi, LaunchParams L, Eigen::VectorXd& r, Track* keep = nullptr) const {
+  /// `also`: a counter the simulation is added to besides `sims`.
+  void residuals(const Setup& s, int fi, LaunchParams L, Eigen::VectorXd& r, Track* keep = nullptr,
+                 std::atomic<long>* also = nullptr) const {
     const auto& f = D.dataset().flights[fi];
     const int g = D.glider_of(fi);
     std::vector<double> times;
@@ -176,6 +179,7 @@ struct FitContext {
     if (!s.ev.launch_rotation_per_flight) L.pitch_rate = s.ev.launch_rotation;
     Track tr = simulate_track(*s.ea[g], D.gliders()[g].body, L, times, s.topt);
     ++sims;
+    if (also) ++*also;
     r.resize(2 * f.points.size());
     for (std::size_t i = 0; i < f.points.size(); ++i) {
       const Vec2 p = world_to_camera(tr.positions[i], s.ev);
@@ -189,8 +193,10 @@ struct FitContext {
   /// Gauss-Newton refinement of a launch from a warm start (finite-difference
   /// Jacobian, Levenberg damping): a few iterations suffice when the start is
   /// the linear prediction of the shared parameters' step.
-  void refine_launch(const Setup& s, int fi, LaunchParams& L, Eigen::VectorXd& r, int iterations) const {
-    residuals(s, fi, L, r);
+  /// `also`: a counter its simulations are added to besides `sims`.
+  void refine_launch(const Setup& s, int fi, LaunchParams& L, Eigen::VectorXd& r, int iterations,
+                     std::atomic<long>* also = nullptr) const {
+    residuals(s, fi, L, r, nullptr, also);
     ++refines;
     const double s2 = D.dataset().tracking_sigma_m * D.dataset().tracking_sigma_m;
     double lambda = 1e-4;
@@ -205,7 +211,7 @@ struct FitContext {
         double* v = launch_value(p, k);
         const double h = 1e-6 * std::max(1.0, std::abs(*v));
         *v += h;
-        residuals(s, fi, p, r1);
+        residuals(s, fi, p, r1, nullptr, also);
         J.col(k) = (r1 - r) / h;
       }
       const Eigen::MatrixXd H = J.transpose() * J;
@@ -219,7 +225,7 @@ struct FitContext {
         LaunchParams p = L;
         for (int k = 0; k < nl; ++k) *launch_value(p, k) += d(k);
         p.speed = std::max(p.speed, 0.05);
-        residuals(s, fi, p, r1);
+        residuals(s, fi, p, r1, nullptr, also);
         if (r1.squaredNorm() < r.squaredNorm()) {
           const double gain = r.squaredNorm() - r1.squaredNorm();
           L = p;
@@ -276,7 +282,7 @@ struct FitContext {
       if (fallback && r.squaredNorm() > 1.5 * expect && !(r.squaredNorm() <= 1.02 * previous_sse)) {
         LaunchParams c = cold_launch(s, fi, &fallback_sims);
         Eigen::VectorXd rc;
-        residuals(s, fi, c, rc);
+        residuals(s, fi, c, rc, nullptr, &fallback_sims);
         ++fallbacks;
         if (rc.squaredNorm() < r.squaredNorm()) {
           ++fallbacks_helped;
@@ -319,7 +325,7 @@ struct FitContext {
       if (!(R[k].squaredNorm() > 2 * expect)) return;
       LaunchParams c = cold_launch(s, flights[k], &refresh_sims);
       Eigen::VectorXd r;
-      refine_launch(s, flights[k], c, r, 1);
+      refine_launch(s, flights[k], c, r, 1, &refresh_sims);
       if (r.squaredNorm() < R[k].squaredNorm()) {
         L[k] = c;
         lr[k] = r.squaredNorm();
