@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -375,10 +376,13 @@ TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
   op.profile = DiagnoseOptions{}.profile;
   EXPECT_TRUE(op.profile) << "profiled starts are the default";
   EXPECT_GT(op.profile_min_gliders, 3);
+  std::vector<std::string> messages;
   auto stepped = [&](const DiagnoseOptions& opts, DiagnoseResult& out) {
     bool seen = false;
+    messages.clear();
     out = diagnose(d, opts, [&](const DiagnoseProgress& p) {
       seen = seen || p.message.find("linearised step") != std::string::npos;
+      messages.push_back(p.message);
     });
     return seen;
   };
@@ -391,6 +395,26 @@ TEST(Diagnose, FlightsOfTheBaselineModelLeaveNoGap) {
   EXPECT_EQ(rp.verdict, "none") << rp.summary;
   EXPECT_LT(rp.holdout_chi2_ratio, 1.3) << rp.summary;
   for (const auto& e : rp.effects) EXPECT_FALSE(e.significant) << e.name;
+  // The fold rule (docs/diagnosis.md): on flights without any effect no
+  // candidate is supported by a fold's training gliders, so wherever a
+  // candidate kept the centre values from before the baseline's own step
+  // it is replaced by the baseline's fit, and its fold strengths are then
+  // exactly 0. The profiled baseline's step moves the centre values in
+  // some fold, so the rule must fire at least once here.
+  const std::regex fired(R"(fold (\d+)/\d+: (\w+) is not supported by the training gliders)");
+  int fired_count = 0;
+  for (const auto& m : messages) {
+    std::smatch g;
+    if (!std::regex_search(m, g, fired)) continue;
+    ++fired_count;
+    const int k = std::stoi(g[1].str()) - 1;
+    const auto it = std::find_if(rp.effects.begin(), rp.effects.end(),
+                                 [&](const EffectResult& e) { return e.name == g[2].str(); });
+    ASSERT_NE(it, rp.effects.end()) << m;
+    ASSERT_LT(k, static_cast<int>(it->fold_parameters.size())) << m;
+    for (double v : it->fold_parameters[k]) EXPECT_EQ(v, 0.0) << m;
+  }
+  EXPECT_GT(fired_count, 0) << "the fold rule never fired on effect-free flights with profiled starts";
 }
 
 // The whole diagnosis on flights of the corrected model itself (pitch damping
