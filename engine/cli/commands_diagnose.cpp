@@ -109,7 +109,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
-                                        "--oracle", "--plausible", "--profile-min-gliders"};
+                                        "--oracle", "--plausible", "--profile-min-gliders",
+                                        "--profiled-candidates"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
@@ -160,6 +161,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.worst_flights = whole(a, "--worst-flights", o.worst_flights, 0, 1000);
   o.polish = whole(a, "--polish", o.polish, 0, 100);
   o.profile_min_gliders = whole(a, "--profile-min-gliders", o.profile_min_gliders, 1, 100000);
+  o.profiled_candidates = whole(a, "--profiled-candidates", o.profiled_candidates, 0, 100);
   if (a.has("--launch-rotation"))
     o.launch_rotation_per_flight = launch_rotation_per_flight_from(a.get("--launch-rotation"), "--launch-rotation");
   if (a.has("--oracle")) o.oracle = oracle_from(a.get("--oracle"), "--oracle");
@@ -267,6 +269,10 @@ const bool registered_diagnose = register_command(
          "  --profile-min-gliders N profiled starts only in fits to at least N gliders (all\n"
          "                          gliders, a fold's training gliders; default 6): on fewer the\n"
          "                          re-tuned centre values overfit, and those fits keep them fixed\n"
+         "  --profiled-candidates N at most N candidates per fit refitted from their step, the\n"
+         "                          largest linearised gains first (default 3; each costs about a\n"
+         "                          fixed-coefficient fit; a verdict's effect not among them on\n"
+         "                          all gliders is refitted from its step there for its strength)\n"
          "  --launch-rotation M     per-flight (default): every flight's own pitch rate at its\n"
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"

@@ -98,6 +98,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   o.fit.max_centres = whole("max_centres", o.fit.max_centres, 1, 200);
   o.polish = whole("polish", o.polish, 0, 100);
   o.profile_min_gliders = whole("profile_min_gliders", o.profile_min_gliders, 1, 100000);
+  o.profiled_candidates = whole("profiled_candidates", o.profiled_candidates, 0, 100);
   if (kw.contains("launch_rotation"))
     o.launch_rotation_per_flight =
         launch_rotation_per_flight_from(kw["launch_rotation"].cast<std::string>(), "launch_rotation");

@@ -506,6 +506,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("the shrink margin must be in [0, 1)");
   if (!(o.none_tolerance >= 0)) throw InputError("the noise tolerance must not be negative");
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("phase limits must not be negative");
+  if (o.profiled_candidates < 0) throw InputError("the number of profiled candidates must not be negative");
   check_oracle(o.oracle, "oracle");
   check_plausible(o.plausible, "plausible");
   DiagFitOptions so = o.sim;
@@ -902,9 +903,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     D.linear_step(base, free, J, base_cols, &sse_base);
     // Only candidates whose linearised gain over the baseline's step passes
     // the likelihood-ratio threshold are refitted from their step (the fits
-    // cost about as much as the fixed-coefficient ones), at most kProfiled,
-    // the largest gains first.
-    constexpr int kProfiled = 3;
+    // cost about as much as the fixed-coefficient ones), at most
+    // DiagnoseOptions::profiled_candidates, the largest gains first.
+    const int kProfiled = o.profiled_candidates;
     std::vector<std::vector<DiagModel>> starts(ne);
     std::vector<std::pair<double, int>> gains;
     for (int e = 0; e < ne; ++e) {
@@ -1605,7 +1606,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
 
   // ------------------------------------------------------------ the verdict's strength
   // The reported strength is the fit to all gliders. There only the
-  // candidates with the kProfiled largest linearised gains are refitted
+  // candidates with the largest linearised gains (at most
+  // DiagnoseOptions::profiled_candidates) are refitted
   // from their step with the centre values; the others keep the baseline's
   // coefficients, which absorb most of an effect they resemble (blind
   // finite span at 1, seed 24: strength 0.07 on all gliders, where the two
@@ -2265,6 +2267,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"polish", o.polish},
                   {"profile", o.profile},
                   {"profile_min_gliders", o.profile_min_gliders},
+                  {"profiled_candidates", o.profiled_candidates},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
   // The plausible sizes in force (reported units; effects without a finite

@@ -465,6 +465,40 @@ TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
   EXPECT_TRUE(seen);
 }
 
+// The verdict's strength: with no candidate refitted from its linearised
+// step (DiagnoseOptions::profiled_candidates = 0) the fits keep the
+// baseline's coefficients, which take part of the damping (about 0.93 at a
+// fit error near 0.9 cm, four times the 2 mm noise, on these flights). The
+// verdict's effect is then refitted from its own step on all gliders, and the
+// reported strength and fit error are the truth's (strength 1 within 0.1)
+// and the noise's; without that refit the fit error assertion fails.
+TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
+  EffectValues truth;
+  truth.pitch_damping = 1.0;
+  const Dataset d = corrected_flights(truth, 0.002, 5);
+  DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind});
+  o.profile = true;
+  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
+  o.profiled_candidates = 0;
+  o.second_effect = false;
+  std::vector<std::string> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+  ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
+  int refits = 0;
+  for (const auto& l : lines)
+    if (l.find("the verdict's strength: pitch_damping refitted from its linearised step") != std::string::npos) ++refits;
+  EXPECT_EQ(refits, 1);
+  for (const auto& e : r.effects)
+    if (e.effect == Effect::PitchDamping) {
+      ASSERT_EQ(e.parameters.size(), 1u);
+      EXPECT_NEAR(e.parameters[0], 1.0, 0.1);
+      EXPECT_LT(e.fit_rmse_m, 2 * 0.002);
+    }
+  // Refused: a negative count.
+  o.profiled_candidates = -1;
+  EXPECT_THROW(diagnose(d, o), InputError);
+}
+
 // The oracle (the baseline plus the known correction, centre values refitted
 // with it): on flights of the model with pitch damping at its full size and
 // 2 mm noise, the oracle at the true strength predicts the held-out gliders

@@ -143,6 +143,12 @@ struct DiagnoseOptions {
   /// lost the camera error it finds with fixed coefficients; the blind
   /// benchmark (8 gliders, 6 per fold) and the size (20) profit.
   int profile_min_gliders = 6;
+  /// Profiled starts: at most this many candidates per fit (those with the
+  /// largest linearised gains that pass the threshold) are refitted from
+  /// their step; each costs about a fixed-coefficient fit. A verdict's
+  /// effect that was not among them on all gliders is refitted from its step
+  /// there after the decision, for its strength.
+  int profiled_candidates = 3;
   /// launch_rotation as a launch parameter: every flight's pitch rate at its
   /// first tracked point is fitted (one more launch value per flight, on
   /// training and held-out gliders; its tests count one degree of freedom per

@@ -22,7 +22,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
-             glider_guard=True, prefer_identifiable=False, threads=0, progress=None):
+             profiled_candidates=3, glider_guard=True, prefer_identifiable=False, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -39,6 +39,10 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     starts"); False is faster and finds only what fixed coefficients show.
     ``profile_min_gliders``: profiled starts only in fits to at least this many
     gliders (all gliders, a fold's training gliders); fewer overfit them.
+    ``profiled_candidates`` (default 3): at most this many candidates per fit,
+    the largest linearised gains first, are refitted from their step (each
+    costs about a fixed-coefficient fit); a verdict's effect not among them on
+    all gliders is refitted from its step there for its reported strength.
     ``glider_guard`` (default True): an effect whose held-out shrink falls
     below ``min_shrink`` with one held-out glider left out and that improves
     at most half of the held-out gliders is not significant.
@@ -58,7 +62,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 polish=polish, full_fit=bool(full_fit), iterations=iterations, ground_y=ground_y, dt=dt,
                 launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),
-                profile_min_gliders=profile_min_gliders, glider_guard=bool(glider_guard),
+                profile_min_gliders=profile_min_gliders, profiled_candidates=profiled_candidates,
+                glider_guard=bool(glider_guard),
                 prefer_identifiable=bool(prefer_identifiable), threads=threads)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
