@@ -1253,13 +1253,24 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         if (m.effects.launch_rotation_per_flight && !otr.model.effects.launch_rotation_per_flight)
           w = with_rate(w, m.effects.launch_rotation);
         otr = settled(m, train, trims, &w);
+        // The oracle's fits can take many minutes on data far from the
+        // model (blind downwash, seed 24: about 14 min a fold, silent before).
+        report("fold", label + ", the oracle: training gliders at " + std::to_string(k) + "/" + std::to_string(kSteps) +
+                           " of the known effects: RMSE " + cm(otr.rmse()) +
+                           (k == kSteps && centre_count(otr.model.coefficients) > 0 ? "; refitting the centre values"
+                                                                                    : ""),
+               false);
       }
       if (centre_count(otr.model.coefficients) > 0) {
         std::vector<FreeParam> free = centre_values(otr.model.coefficients);
         free.insert(free.end(), trims.begin(), trims.end());
         const auto w2 = launches_of(otr);
         FitOutcome p = D.fit(otr.model, train, free, &w2);
-        if (p.sse < otr.sse) otr = std::move(p);
+        const bool better = p.sse < otr.sse;
+        report("fold", label + ", the oracle: centre values refitted: RMSE " + cm(p.rmse()) + " on training gliders" +
+                           (better ? " (kept); its held-out gliders follow" : " (not kept); its held-out gliders follow"),
+               false);
+        if (better) otr = std::move(p);
       }
       mean_rate(otr);
       FitOutcome oho = base_ho;
