@@ -884,6 +884,30 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     }
     return std::nullopt;
   };
+  // One candidate's starts from its own linearised step at `base` (the
+  // trims, the centre values, `extra` and its strengths), at each fraction
+  // of kStepFractions, in its slot of the per-candidate list fit_effects
+  // takes; with the step space and Jacobian, for the baseline's own step.
+  struct CandidateStep {
+    StepSpace space;
+    Eigen::MatrixXd J;
+    std::vector<std::vector<DiagModel>> starts;
+  };
+  auto candidate_step = [&](const FitOutcome& base, const std::vector<int>& flights, int e,
+                            const std::vector<FreeParam>& extra = {}) {
+    CandidateStep c;
+    c.space = step_space(base, flights, extra);
+    std::vector<int> cols = c.space.base_cols;
+    for (const auto& p : params_of(o.effects[e])) {
+      cols.push_back(static_cast<int>(c.space.free.size()));
+      c.space.free.push_back(p);
+    }
+    c.J = D.projected_jacobian(base, c.space.free);
+    c.starts.resize(ne);
+    for (double fraction : kStepFractions)
+      c.starts[e].push_back(D.linear_step(base, c.space.free, c.J, cols, nullptr, fraction));
+    return c;
+  };
   // `stepped` (optional): set for every candidate refitted from its step.
   auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                             std::vector<bool>* stepped = nullptr) {
@@ -905,7 +929,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // the likelihood-ratio threshold are refitted from their step (the fits
     // cost about as much as the fixed-coefficient ones), at most
     // DiagnoseOptions::profiled_candidates, the largest gains first.
-    const int kProfiled = o.profiled_candidates;
     std::vector<std::vector<DiagModel>> starts(ne);
     std::vector<std::pair<double, int>> gains;
     for (int e = 0; e < ne; ++e) {
@@ -924,7 +947,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     std::sort(gains.rbegin(), gains.rend());
     std::vector<bool> keep(ne, false);
     std::string kept;
-    for (int i = 0; i < std::min<int>(kProfiled, static_cast<int>(gains.size())); ++i) {
+    for (int i = 0; i < std::min<int>(o.profiled_candidates, static_cast<int>(gains.size())); ++i) {
       keep[gains[i].second] = true;
       kept += (kept.empty() ? "" : ", ") + effect_name(o.effects[gains[i].second]) + " (linearised delta chi2 " +
               fmt(gains[i].first, 3) + ")";
@@ -1268,7 +1291,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         FitOutcome p = D.fit(otr.model, train, free, &w2);
         const bool better = p.sse < otr.sse;
         report("fold", label + ", the oracle: centre values refitted: RMSE " + cm(p.rmse()) + " on training gliders" +
-                           (better ? " (kept); its held-out gliders follow" : " (not kept); its held-out gliders follow"),
+                           std::string(better ? " (kept)" : " (not kept)") + "; its held-out gliders follow",
                false);
         if (better) otr = std::move(p);
       }
@@ -1417,6 +1440,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                                           : static_cast<double>(all_flights.size()) * (K - 1) / K;
   auto dof_fit_of = [&](Effect E) { return added_dof(E, train_flights); };
   auto dof_ho_of = [&](Effect E) { return added_dof(E, static_cast<double>(f_ho)); };
+  // An effect's likelihood ratio against the baseline: its fit's gain `dsse`
+  // over the residual variance of its fit `sse_e` (at least the noise's).
+  auto set_likelihood_ratio = [&](EffectResult& r, Effect E, double dsse, double sse_e) {
+    const double s2_eff = std::max(s2, sse_e / std::max(1.0, dof_fit - dof_fit_of(E)));
+    r.delta_chi2 = std::max(0.0, dsse) / s2_eff;
+    r.p_value = chi2_sf(r.delta_chi2, dof_fit_of(E));
+  };
   res.effects.resize(ne);
   // Each effect's plausible sizes (internal units): the library's, or the
   // caller's (DiagnoseOptions::plausible).
@@ -1436,7 +1466,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     r.effect = E;
     r.name = effect_name(E);
     const int pe = static_cast<int>(effect_spec(E).parameters.size());
-    const double pe_fit = dof_fit_of(E), pe_ho = dof_ho_of(E);
+    const double pe_ho = dof_ho_of(E);
     r.holdout_rmse_m = std::sqrt(sse_ho[e] / n_ho);
     r.shrink = 1 - r.holdout_rmse_m / res.holdout_rmse_m;
     r.fold_parameters = fold_params[e];
@@ -1454,9 +1484,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       for (const auto& fp : fold_params[e])
         for (int i = 0; i < pe; ++i) r.parameters[i] += fp[i] / K;
     }
-    const double s2_eff = std::max(s2, sse_e / std::max(1.0, dof_fit - pe_fit));
-    r.delta_chi2 = std::max(0.0, dsse) / s2_eff;
-    r.p_value = chi2_sf(r.delta_chi2, pe_fit);
+    set_likelihood_ratio(r, E, dsse, sse_e);
     // Held-out confirmation.
     const double s2_ho = std::max(s2, sse_ho[e] / std::max(1.0, dof_ho - (pe_ho - pe)));
     r.holdout_delta_chi2 = (sse0_ho - sse_ho[e]) / s2_ho;
@@ -1633,20 +1661,11 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       profiled_on(gliders_of(all_flights))) {
     const auto ts = Clock::now();
     const Effect B = o.effects[best];
-    StepSpace space = step_space(base_full, all_flights);
-    std::vector<int> c = space.base_cols;
-    for (const auto& p : params_of(B)) {
-      c.push_back(static_cast<int>(space.free.size()));
-      space.free.push_back(p);
-    }
-    const Eigen::MatrixXd J = D.projected_jacobian(base_full, space.free);
-    std::vector<std::vector<DiagModel>> starts(ne);
-    for (double fraction : kStepFractions)
-      starts[best].push_back(D.linear_step(base_full, space.free, J, c, nullptr, fraction));
+    const CandidateStep step = candidate_step(base_full, all_flights, best);
     const std::string label = "all gliders, the verdict's strength";
     report("analysis", label + ": " + effect_name(B) + " refitted from its linearised step with the centre values",
            false);
-    FitOutcome n = fit_effects(base_full, all_flights, label, false, {best}, {}, false, &starts)[best];
+    FitOutcome n = fit_effects(base_full, all_flights, label, false, {best}, {}, false, &step.starts)[best];
     const auto before = effect_values(eff_full[best].model.effects, B);
     const auto after = effect_values(n.model.effects, B);
     // A strength beyond the plausible sizes would contradict the decision
@@ -1663,10 +1682,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       EffectResult& r = res.effects[best];
       r.fit_rmse_m = eff_full[best].rmse();
       r.parameters = effect_values(eff_full[best].model.effects, B);
-      const double sse_e = eff_full[best].sse;
-      const double s2_eff = std::max(s2, sse_e / std::max(1.0, dof_fit - dof_fit_of(B)));
-      r.delta_chi2 = std::max(0.0, base_full.sse - sse_e) / s2_eff;
-      r.p_value = chi2_sf(r.delta_chi2, dof_fit_of(B));
+      set_likelihood_ratio(r, B, base_full.sse - eff_full[best].sse, eff_full[best].sse);
     }
     timings["verdict_strength_s"] = since(ts);
   }
@@ -1754,24 +1770,15 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     };
     auto retuned_pair = [&](const FitOutcome& before, const std::vector<int>& flights, int e, const std::string& label) {
       const Effect E = o.effects[e];
-      StepSpace space = step_space(before, flights, extra);
-      std::vector<int> cols = space.base_cols;
-      for (const auto& p : params_of(E)) {
-        cols.push_back(static_cast<int>(space.free.size()));
-        space.free.push_back(p);
-      }
-      const Eigen::MatrixXd J = D.projected_jacobian(before, space.free);
-      std::vector<std::vector<DiagModel>> starts(ne);
-      for (double fraction : kStepFractions)
-        starts[e].push_back(D.linear_step(before, space.free, J, cols, nullptr, fraction));
+      const CandidateStep step = candidate_step(before, flights, e, extra);
       std::vector<FreeParam> b_free = extra;
-      b_free.insert(b_free.end(), space.trims.begin(), space.trims.end());
+      b_free.insert(b_free.end(), step.space.trims.begin(), step.space.trims.end());
       Retuned r{before, before, false};
-      if (auto n = own_step(before, space, J, flights, b_free, "")) {
+      if (auto n = own_step(before, step.space, step.J, flights, b_free, "")) {
         r.alone = std::move(*n);
         r.moved = true;
       }
-      r.cand = fit_effects(before, flights, label + ", re-checked", false, {e}, extra, true, &starts)[e];
+      r.cand = fit_effects(before, flights, label + ", re-checked", false, {e}, extra, true, &step.starts)[e];
       if (r.cand.model.coefficients != before.model.coefficients) {
         DiagModel m = r.cand.model;
         for (std::size_t i = 0; i < params_of(E).size(); ++i) m.effects.at(E, static_cast<int>(i)) = 0.0;
