@@ -515,9 +515,48 @@ TEST(Diagnose, OracleWithTheTrueCorrectionPredictsToTheNoise) {
   o.full_fit = false;
   o.second_effect = false;
   o.oracle = oracle_from("pitch_damping=1", "--oracle");
-  const DiagnoseResult r = diagnose(d, o);
+  std::vector<std::string> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_TRUE(r.oracle.has_value());
   ASSERT_EQ(r.oracle->fold_holdout_rmse_m.size(), 3u);
+  // Its progress (the oracle's fits can take many minutes a fold on data far
+  // from the model): in every fold the four steps toward the known effects
+  // in order, the centre values' refit, then one line whose held-out figure
+  // is the one reported for that fold.
+  {
+    const std::regex step(R"(^fold (\d)/3, the oracle: training gliders at (\d)/4 of the known effects: RMSE)");
+    const std::regex centre(R"(^fold (\d)/3, the oracle: centre values refitted: RMSE [0-9.]+ cm on training gliders)");
+    const std::regex done(
+        R"(^fold (\d)/3: oracle \(the baseline plus the known effects, centre values refitted\): RMSE [0-9.]+ cm on )"
+        R"(training gliders, ([0-9.]+) cm on held-out gliders)");
+    std::vector<int> next_step(3, 1), centres(3, 0), dones(3, 0);
+    for (const auto& l : lines) {
+      std::smatch m;
+      if (std::regex_search(l, m, step)) {
+        const int k = std::stoi(m[1].str()) - 1;
+        ASSERT_TRUE(k >= 0 && k < 3) << l;
+        EXPECT_EQ(std::stoi(m[2].str()), next_step[k]) << l;
+        EXPECT_EQ(centres[k] + dones[k], 0) << "a step after the fold's oracle refit: " << l;
+        ++next_step[k];
+      } else if (std::regex_search(l, m, centre)) {
+        const int k = std::stoi(m[1].str()) - 1;
+        ASSERT_TRUE(k >= 0 && k < 3) << l;
+        EXPECT_EQ(next_step[k], 5) << "the centre values refitted before the fourth step: " << l;
+        ++centres[k];
+      } else if (std::regex_search(l, m, done)) {
+        const int k = std::stoi(m[1].str()) - 1;
+        ASSERT_TRUE(k >= 0 && k < 3) << l;
+        EXPECT_EQ(centres[k], 1) << l;
+        EXPECT_NEAR(std::stod(m[2].str()), 100 * r.oracle->fold_holdout_rmse_m[k], 0.051) << l;
+        ++dones[k];
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(next_step[k], 5) << "fold " << k + 1;
+      EXPECT_EQ(centres[k], 1) << "fold " << k + 1;
+      EXPECT_EQ(dones[k], 1) << "fold " << k + 1;
+    }
+  }
   EXPECT_LT(r.oracle->holdout_chi2_ratio, 1.5) << r.summary;
   EXPECT_GT(r.oracle->holdout_chi2_ratio, 0.5) << r.summary;
   ASSERT_EQ(r.effects.size(), 1u);
