@@ -114,6 +114,23 @@ std::string second_effect_found(const DiagnoseResult& r, const std::string& a, c
   return other;
 }
 
+/// Flights of the model with pitch damping at its full size (2 mm noise, 3
+/// gliders), diagnosed with pitch damping and wind as candidates, profiled
+/// starts on (two gliders per fold's training set) and no second round.
+struct PitchDampingCase {
+  Dataset flights;
+  DiagnoseOptions options;
+};
+PitchDampingCase profiled_pitch_damping_case() {
+  EffectValues truth;
+  truth.pitch_damping = 1.0;
+  PitchDampingCase c{corrected_flights(truth, 0.002, 5), small_diagnosis({Effect::PitchDamping, Effect::Wind})};
+  c.options.profile = true;
+  c.options.profile_min_gliders = 2;  // three gliders, two per fold's training set
+  c.options.second_effect = false;
+  return c;
+}
+
 DiagFitOptions quick() {
   DiagFitOptions o;
   o.threads = 2;
@@ -445,13 +462,7 @@ TEST(Diagnose, FindsTheCorrectionThatMadeTheFlights) {
 // values, pitch damping reaches the tracking noise (RMSE under 2 sigma) at
 // its true strength, and it is the verdict.
 TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
-  EffectValues truth;
-  truth.pitch_damping = 1.0;
-  const Dataset d = corrected_flights(truth, 0.002, 5);
-  DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind});
-  o.profile = true;
-  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
-  o.second_effect = false;
+  const auto [d, o] = profiled_pitch_damping_case();
   const DiagnoseResult r = diagnose(d, o);
   EXPECT_EQ(r.verdict, "pitch_damping") << r.summary;
   bool seen = false;
@@ -473,14 +484,8 @@ TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
 // reported strength and fit error are the truth's (strength 1 within 0.1)
 // and the noise's; without that refit the fit error assertion fails.
 TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
-  EffectValues truth;
-  truth.pitch_damping = 1.0;
-  const Dataset d = corrected_flights(truth, 0.002, 5);
-  DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind});
-  o.profile = true;
-  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
+  auto [d, o] = profiled_pitch_damping_case();
   o.profiled_candidates = 0;
-  o.second_effect = false;
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
