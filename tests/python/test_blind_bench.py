@@ -11,6 +11,8 @@ counts against tables worked out by hand from made-up diagnosis results.
 import importlib.util
 import json
 import os
+import subprocess
+import sys
 
 import pytest
 
@@ -189,3 +191,64 @@ def test_summary_tells_a_right_answer_without_a_gap_from_a_wrong_one_and_counts_
     assert (s["no_gap_cases"], s["no_gap_true"], s["no_gap_false"], s["no_gap_none"]) == (2, 1, 1, 0)
     assert s["second_round_cases"] == 1
     assert "verdict none in 0, the true effect in 1, another effect in 1" in rb.markdown(s)
+
+
+# bench/diagnosis/rule_replay.py: the per-effect decision replayed on stored
+# diagnoses, and alternatives to it.
+rr_spec = importlib.util.spec_from_file_location("rule_replay",
+                                                 os.path.join(ROOT, "bench", "diagnosis", "rule_replay.py"))
+rr = importlib.util.module_from_spec(rr_spec)
+rr_spec.loader.exec_module(rr)
+
+
+def _stored(name, lr_pass, shrink, cv_delta, significant, collinearity=0.5, robust=0.1, improved=6):
+    return {"name": name, "shrink": shrink, "significant": significant, "plausible": True,
+            "coefficient_collinearity": collinearity,
+            "likelihood_ratio": {"pass": lr_pass, "p_value": 1e-4 if lr_pass else 0.5},
+            "cross_validation": {"delta_chi2": cv_delta, "threshold": 10.0, "robust_pass": True,
+                                 "robust_shrink": robust, "gliders_improved": improved, "gliders": 8}}
+
+
+def _write_case(root, name, effects):
+    d = root / name
+    d.mkdir(parents=True)
+    (d / "diagnosis.json").write_text(json.dumps({"effects": effects, "options": {"min_shrink": 0.05}}))
+
+
+def test_rule_replay_counts_what_each_rule_would_have_declared(tmp_path, capsys):
+    # Worked out by hand: the null's finite span (collinear 0.98, training
+    # test failed, held-out 6 % with its chi-square over the threshold) is a
+    # false discovery for the held-out rules only; the camera case's camera
+    # is significant as built; the wind case's wind passes held-out alone
+    # but is not collinear (0.5) and its shrink without its glider (2 %) is
+    # under the margin, so only "held-out alone" finds it.
+    _write_case(tmp_path, "null-s1", [_stored("finite_span", False, 0.06, 40.0, False, collinearity=0.98)])
+    _write_case(tmp_path, "camera-1-s2", [_stored("camera", True, 0.08, 40.0, True),
+                                          _stored("wind", False, 0.02, 40.0, False)])
+    _write_case(tmp_path, "wind-1-s3", [_stored("wind", False, 0.07, 40.0, False, robust=0.02)])
+    _write_case(tmp_path, "not-a-case", [_stored("wind", True, 0.5, 99.0, False)])  # ignored: not a case name
+    argv = sys.argv
+    sys.argv = ["rule_replay.py", str(tmp_path)]
+    try:
+        assert rr.main() == 0
+    finally:
+        sys.argv = argv
+    out = capsys.readouterr().out
+    assert "3 diagnoses replayed (1 null, 2 single-effect)" in out
+    assert "| as built | 0 of 1 (95 % bound 95.0 %) | 1 of 2 | 0 of 2 |" in out
+    assert "| held-out alone for collinear effects | 1 of 1 (95 % bound 100.0 %) | 1 of 2 | 0 of 2 |" in out
+    assert "| held-out alone | 1 of 1 (95 % bound 100.0 %) | 2 of 2 | 0 of 2 |" in out
+    assert "| held-out alone, robust shrink | 1 of 1 (95 % bound 100.0 %) | 1 of 2 | 0 of 2 |" in out
+    assert "false discovery: null-s1" in out and "true effect found: wind-1-s3" in out
+
+
+def test_rule_replay_refuses_results_its_rule_does_not_reproduce(tmp_path):
+    # Stored as significant though its training test failed: made by another rule.
+    _write_case(tmp_path, "wind-1-s3", [_stored("wind", False, 0.3, 40.0, True)])
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "diagnosis", "rule_replay.py"), str(tmp_path)],
+                       capture_output=True, text=True)
+    assert r.returncode != 0
+    assert "disagrees with stored decisions" in r.stderr and "wind-1-s3" in r.stderr and "wind stored True" in r.stderr
+    r = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "diagnosis", "rule_replay.py"),
+                        str(tmp_path / "nothing")], capture_output=True, text=True)
+    assert r.returncode != 0 and "no blind-benchmark diagnoses" in r.stderr

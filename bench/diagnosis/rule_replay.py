@@ -1,0 +1,186 @@
+#!/usr/bin/env python3
+"""Replay the diagnosis's per-effect decision on stored results, and
+alternatives to it, without diagnosing again (issue 7, docs/diagnosis.md).
+
+Every `diagnosis.json` under the given directories (blind-benchmark case
+directories, EFFECT-STRENGTH-sSEED or null-sSEED, as run_blind.py writes
+them) holds each candidate's likelihood-ratio result, held-out shrink and
+chi-square, glider guard, launch-rate test and plausibility. The rule as
+built (docs/diagnosis.md, "Which effect") is
+
+    significant = LR passed (Holm) and shrink >= margin and held-out
+                  delta chi2 > its threshold and the launch rates share a
+                  direction (launch rotation only) and the glider guard
+                  passed and the fit is plausible
+
+This script first checks that it reproduces every stored `significant` flag
+(a replay that does not is refused: the stored results come from another
+rule), then counts, for each alternative rule, the null datasets where some
+candidate would become significant (false discoveries) and the
+single-effect datasets where the true effect would (and where another one
+would). It answers "what would this rule have done on every case we ran"
+before anyone spends hours of blind runs on it; it cannot say what a rule
+would do on fits the diagnosis would then have made differently (a rule
+that changes which candidates are stepped, for instance).
+
+    /usr/bin/python3 bench/diagnosis/rule_replay.py out/s25 out/nulls-402578c ...
+"""
+import argparse
+import glob
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from run_blind import case_of  # noqa: E402  (the benchmark's case names)
+
+
+def fields(e, options):
+    lr = e.get("likelihood_ratio", {})
+    cv = e.get("cross_validation", {})
+    rate = e.get("rate_mean")
+    return {
+        "name": e["name"],
+        "lr_pass": bool(lr.get("pass", False)),
+        "p": lr.get("p_value", 1.0),
+        "shrink": e.get("shrink", 0.0),
+        "ho_dchi2": cv.get("delta_chi2", float("nan")),
+        "ho_threshold": cv.get("threshold", float("nan")),
+        "robust_pass": bool(cv.get("robust_pass", True)),
+        "robust_shrink": cv.get("robust_shrink", float("nan")),
+        "improved": cv.get("gliders_improved", 0),
+        "gliders": cv.get("gliders", 0),
+        "rate_pass": bool(rate.get("pass", False)) if isinstance(rate, dict) else True,
+        "plausible": bool(e.get("plausible", True)),
+        "collinearity": e.get("coefficient_collinearity", 0.0),
+        "margin": options.get("min_shrink", 0.05),
+        "ho_test": bool(options.get("holdout_chi2_test", True)),
+        "limit": options.get("collinearity_limit", 0.95),
+    }
+
+
+def built(f):
+    """The rule as built."""
+    ho = (not f["ho_test"]) or f["ho_dchi2"] > f["ho_threshold"]
+    return f["lr_pass"] and f["shrink"] >= f["margin"] and ho and f["rate_pass"] and f["robust_pass"] and \
+        f["plausible"]
+
+
+def heldout_for_collinear(f):
+    """As built, but an effect the coefficients imitate (collinearity above
+    the limit) may pass on the held-out gliders alone: its likelihood ratio
+    on the training gliders is what the re-tuned coefficients hide."""
+    if f["collinearity"] > f["limit"]:
+        g = dict(f, lr_pass=True)
+        return built(g)
+    return built(f)
+
+
+def heldout_only(f):
+    """The held-out tests alone (no likelihood-ratio test)."""
+    return built(dict(f, lr_pass=True))
+
+
+def heldout_robust(f):
+    """The held-out tests alone, with the shrink without the glider it rests
+    on most also above the margin (not only a majority of gliders)."""
+    return built(dict(f, lr_pass=True)) and f["robust_shrink"] >= f["margin"]
+
+
+RULES = [("as built", built), ("held-out alone for collinear effects", heldout_for_collinear),
+         ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust)]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("dirs", nargs="+", help="directories holding case directories (searched recursively)")
+    args = ap.parse_args()
+    cases = []
+    seen = set()
+    for d in args.dirs:
+        for p in sorted(glob.glob(os.path.join(d, "**", "diagnosis.json"), recursive=True)):
+            name = os.path.basename(os.path.dirname(p))
+            c = case_of(name)
+            if c is None:
+                continue
+            with open(p) as fh:
+                r = json.load(fh)
+            if not r.get("effects"):
+                continue
+            key = (name, r.get("bench_commit", ""))
+            if key in seen:  # the same case diagnosed by the same binary twice
+                continue
+            seen.add(key)
+            opts = r.get("options", {})
+            cases.append((p, name, c["truth"], not c["truth"], r, [fields(e, opts) for e in r["effects"]]))
+    if not cases:
+        sys.exit("no blind-benchmark diagnoses (EFFECT-STRENGTH-sSEED/diagnosis.json, null-sSEED/...) under " +
+                 ", ".join(args.dirs))
+    # The replay must reproduce the stored decisions.
+    bad = []
+    for p, name, truth, null, r, fs in cases:
+        for f, e in zip(fs, r["effects"]):
+            if built(f) != bool(e.get("significant", False)):
+                bad.append("%s: %s stored %s, replayed %s" % (p, f["name"], e.get("significant"), built(f)))
+    if bad:
+        sys.exit("the replay of the built rule disagrees with stored decisions (results of another rule?):\n  " +
+                 "\n  ".join(bad))
+    nulls = [c for c in cases if c[3]]
+    singles = [c for c in cases if not c[3] and len(c[2]) == 1]
+    print("%d diagnoses replayed (%d null, %d single-effect); the built rule reproduces every stored decision.\n" %
+          (len(cases), len(nulls), len(singles)))
+    print("| rule | null datasets with a significant effect | single-effect: true effect significant | "
+          "single-effect: another effect significant |")
+    print("|---|---|---|---|")
+    changes = {}
+    for label, rule in RULES:
+        fd = [c for c in nulls if any(rule(f) for f in c[5])]
+        hit = [c for c in singles if any(rule(f) and f["name"] == c[2][0] for f in c[5])]
+        other = [c for c in singles if any(rule(f) and f["name"] != c[2][0] for f in c[5])]
+        # Exact one-sided 95 % upper bound on the false-discovery rate (Clopper-Pearson).
+        n, k = len(nulls), len(fd)
+        bound = upper_bound(k, n) if n else float("nan")
+        print("| %s | %d of %d (95 %% bound %.1f %%) | %d of %d | %d of %d |" %
+              (label, k, n, 100 * bound, len(hit), len(singles), len(other), len(singles)))
+        changes[label] = (fd, hit, other)
+    print()
+    base_fd, base_hit, base_other = changes["as built"]
+    for label, _ in RULES[1:]:
+        fd, hit, other = changes[label]
+        lines = []
+        for what, now, before in (("false discovery", fd, base_fd), ("true effect found", hit, base_hit),
+                                  ("another effect significant", other, base_other)):
+            before_p = {c[0] for c in before}
+            for c in now:
+                if c[0] not in before_p:
+                    rule = dict(RULES)[label]
+                    sig = ", ".join("%s (shrink %.1f %%, without its glider %.1f %%, %d of %d gliders, LR p %.2g)" %
+                                    (f["name"], 100 * f["shrink"], 100 * f["robust_shrink"], f["improved"],
+                                     f["gliders"], f["p"]) for f in c[5] if rule(f) and not built(f))
+                    lines.append("  %s: %s [%s]: %s" % (what, c[1], c[4].get("bench_commit", "?"), sig))
+        print("%s, against the rule as built:" % label)
+        print("\n".join(lines) if lines else "  no change")
+    return 0
+
+
+def upper_bound(k, n, conf=0.95):
+    """Clopper-Pearson one-sided upper bound on a binomial rate (bisection on
+    the binomial tail; no SciPy needed)."""
+    if k >= n:
+        return 1.0
+
+    def tail(p):  # P(X <= k | n, p)
+        return sum(math.comb(n, i) * p ** i * (1 - p) ** (n - i) for i in range(k + 1))
+    lo, hi = 0.0, 1.0
+    for _ in range(100):
+        mid = (lo + hi) / 2
+        if tail(mid) > 1 - conf:
+            lo = mid
+        else:
+            hi = mid
+    return hi
+
+
+if __name__ == "__main__":
+    sys.exit(main())
