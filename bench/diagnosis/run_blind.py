@@ -109,7 +109,7 @@ def one(case, args, gl_dir):
     oracle = ["--oracle", spec] if spec and args.oracle else []
     run([pt, "diagnose", os.path.join(d, "data", "dataset.json"), "--json", res + ".tmp", "--threads", "1"] + DIAG +
         ["--polish", str(args.polish)] + (["--profile"] if args.profile else []) +
-        (["--no-profile"] if args.no_profile else []) + oracle, log)
+        (["--no-profile"] if args.no_profile else []) + getattr(args, "diagnose_args", "").split() + oracle, log)
     os.replace(res + ".tmp", res)
     with open(res) as f:
         r = json.load(f)
@@ -427,6 +427,9 @@ def main():
     ap.add_argument("--profile", action="store_true",
                     help="pass --profile (the diagnosis default since 2026-11-26; for frozen binaries of earlier "
                          "commits, where it was off by default)")
+    ap.add_argument("--diagnose-args", default="",
+                    help="further options for every diagnosis, e.g. \"--carry-steps\" (for experiments; the "
+                         "result's options record them)")
     ap.add_argument("--no-profile", action="store_true",
                     help="pass --no-profile: no profiled starts (fixed coefficients only, as the default was before "
                          "2026-11-26)")

@@ -114,7 +114,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
-                             "--prefer-identifiable"});
+                             "--prefer-identifiable", "--carry-steps", "--no-carry-steps"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -140,6 +140,10 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.prefer_identifiable = a.flag("--prefer-identifiable");
   if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
   o.profile = !a.flag("--no-profile");
+  if (a.flag("--carry-steps") && a.flag("--no-carry-steps"))
+    throw InputError("--carry-steps and --no-carry-steps contradict each other");
+  if (a.flag("--carry-steps")) o.carry_steps = true;
+  if (a.flag("--no-carry-steps")) o.carry_steps = false;
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);
@@ -273,6 +277,9 @@ const bool registered_diagnose = register_command(
          "                          largest linearised gains first (default 3; each costs about a\n"
          "                          fixed-coefficient fit; a verdict's effect not among them on\n"
          "                          all gliders is refitted from its step there for its strength)\n"
+         "  --carry-steps           the candidates refitted from their step on all gliders are\n"
+         "                          refitted from their step in every fold too, whatever their\n"
+         "                          gain there (off by default; --no-carry-steps: off)\n"
          "  --launch-rotation M     per-flight (default): every flight's own pitch rate at its\n"
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"

@@ -90,6 +90,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("second_effect")) o.second_effect = kw["second_effect"].cast<bool>();
   if (kw.contains("glider_guard")) o.glider_guard = kw["glider_guard"].cast<bool>();
   if (kw.contains("prefer_identifiable")) o.prefer_identifiable = kw["prefer_identifiable"].cast<bool>();
+  if (kw.contains("carry_steps")) o.carry_steps = kw["carry_steps"].cast<bool>();
   if (kw.contains("profile")) o.profile = kw["profile"].cast<bool>();
   o.alpha = num("alpha", o.alpha);
   o.min_shrink = num("min_shrink", o.min_shrink);

@@ -909,8 +909,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return c;
   };
   // `stepped` (optional): set for every candidate refitted from its step.
+  // `carried` (optional): candidates refitted from their step whatever
+  // their gain here (DiagnoseOptions::carry_steps).
   auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
-                            std::vector<bool>* stepped = nullptr) {
+                            std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr) {
     StepSpace space = step_space(base, flights);
     std::vector<FreeParam>& free = space.free;  // the candidates' strengths follow the baseline's columns
     const std::vector<int>& base_cols = space.base_cols;
@@ -931,6 +933,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // DiagnoseOptions::profiled_candidates, the largest gains first.
     std::vector<std::vector<DiagModel>> starts(ne);
     std::vector<std::pair<double, int>> gains;
+    std::vector<double> gain_of(ne, 0.0);
+    std::vector<bool> keep(ne, false);
+    int carried_count = 0;
     for (int e = 0; e < ne; ++e) {
       if (cols[e].empty()) continue;
       std::vector<int> c = base_cols;
@@ -938,16 +943,26 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       double sse_e = 0;
       starts[e].push_back(D.linear_step(base, free, J, c, &sse_e));
       const double gain = (sse_base - sse_e) / s2_noise;
-      if (gain > chi2_isf(o.alpha / ne, static_cast<double>(cols[e].size()))) {
+      gain_of[e] = gain;
+      const bool carry = carried && (*carried)[e];
+      const bool passes = gain > chi2_isf(o.alpha / ne, static_cast<double>(cols[e].size()));
+      if (carry && carried_count < o.profiled_candidates) {
+        keep[e] = true;
+        ++carried_count;
+      } else if (passes) {
         gains.push_back({gain, e});
+      }
+      if (keep[e] || passes)
         for (std::size_t i = 1; i < std::size(kStepFractions); ++i)
           starts[e].push_back(D.linear_step(base, free, J, c, nullptr, kStepFractions[i]));
-      }
     }
     std::sort(gains.rbegin(), gains.rend());
-    std::vector<bool> keep(ne, false);
     std::string kept;
-    for (int i = 0; i < std::min<int>(o.profiled_candidates, static_cast<int>(gains.size())); ++i) {
+    for (int e = 0; e < ne; ++e)
+      if (keep[e])
+        kept += (kept.empty() ? "" : ", ") + effect_name(o.effects[e]) + " (linearised delta chi2 " +
+                fmt(gain_of[e], 3) + "; stepped on all gliders)";
+    for (int i = 0; i < std::min<int>(o.profiled_candidates - carried_count, static_cast<int>(gains.size())); ++i) {
       keep[gains[i].second] = true;
       kept += (kept.empty() ? "" : ", ") + effect_name(o.effects[gains[i].second]) + " (linearised delta chi2 " +
               fmt(gains[i].first, 3) + ")";
@@ -962,7 +977,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return starts;
   };
   auto fit_effects_from = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
-                              std::vector<bool>* stepped = nullptr) {
+                              std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr) {
     if (stepped) stepped->assign(ne, false);
     const bool profiled = o.profile && o.polish <= 0 && centre_count(base.model.coefficients) > 0 &&
                           profiled_on(gliders_of(flights));
@@ -974,7 +989,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // baseline all the same.
     const FitOutcome before = base;
     std::vector<std::vector<DiagModel>> starts;
-    if (profiled) starts = profile_starts(base, flights, label, stepped);
+    if (profiled) starts = profile_starts(base, flights, label, stepped, carried);
     std::vector<FitOutcome> out = fit_effects(before, flights, label, true, {}, {}, false, profiled ? &starts : nullptr);
     // Until the baseline stops improving (at most three rounds): a refitted
     // candidate can find yet another basin of centre values.
@@ -1183,7 +1198,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     report("fold", label + ": baseline RMSE " + cm(base_tr.rmse()) + " on training gliders, " + cm(base_ho.rmse()) +
                        " on held-out gliders");
     const auto coefficients_before = base_tr.model.coefficients;
-    std::vector<FitOutcome> trs = fit_effects_from(base_tr, train, label);
+    std::vector<FitOutcome> trs =
+        fit_effects_from(base_tr, train, label, nullptr, o.carry_steps && o.full_fit ? &full_stepped : nullptr);
     if (base_tr.model.coefficients != coefficients_before) {
       // The baseline took a polished candidate's centre values: predict the
       // held-out gliders with them.
@@ -2286,6 +2302,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profile", o.profile},
                   {"profile_min_gliders", o.profile_min_gliders},
                   {"profiled_candidates", o.profiled_candidates},
+                  {"carry_steps", o.carry_steps},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
   // The plausible sizes in force (reported units; effects without a finite
