@@ -462,8 +462,11 @@ TEST(Diagnose, FindsTheCorrectionThatMadeTheFlights) {
 // values, pitch damping reaches the tracking noise (RMSE under 2 sigma) at
 // its true strength, and it is the verdict.
 TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
-  const auto [d, o] = profiled_pitch_damping_case();
-  const DiagnoseResult r = diagnose(d, o);
+  auto [d, o] = profiled_pitch_damping_case();
+  o.carry_steps = false;  // with it: CarriedStepsRefitTheAllGliderCandidatesInEveryFold
+  std::vector<std::string> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+  for (const auto& l : lines) EXPECT_EQ(l.find("stepped on all gliders"), std::string::npos) << l;
   EXPECT_EQ(r.verdict, "pitch_damping") << r.summary;
   bool seen = false;
   for (const auto& e : r.effects)
@@ -502,6 +505,49 @@ TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
   // Refused: a negative count.
   o.profiled_candidates = -1;
   EXPECT_THROW(diagnose(d, o), InputError);
+}
+
+// Carried steps (DiagnoseOptions::carry_steps): every candidate refitted
+// from its linearised step on all gliders is refitted from its step in every
+// fold's training fit too, marked so in the fold's progress line, whatever
+// its gain there; without the option no fold line carries that mark. On
+// these flights (pitch damping at full size) the step on all gliders must
+// pick pitch damping, and the verdict and its strength stay the truth's.
+// (Without the option: ProfiledStartsFitTheTrueCorrectionToTheNoise.)
+TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
+  auto [d, o] = profiled_pitch_damping_case();
+  const std::string line = "candidates refitted from the linearised step with the centre values: ";
+  const std::string mark = "; stepped on all gliders)";
+  std::vector<std::string> lines;
+  o.carry_steps = true;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+  EXPECT_EQ(r.verdict, "pitch_damping") << r.summary;
+  std::string all;
+  int folds = 0;
+  for (const auto& l : lines) {
+    const auto at = l.find(line);
+    if (at == std::string::npos) continue;
+    if (l.rfind("all gliders", 0) == 0) {
+      all = l.substr(at + line.size());
+      continue;
+    }
+    ASSERT_EQ(l.rfind("fold ", 0), 0u) << l;
+    ++folds;
+    const auto pd = l.find("pitch_damping (linearised delta chi2 ");
+    ASSERT_NE(pd, std::string::npos) << l;
+    const bool marked = l.substr(l.find(')', pd) - mark.size() + 1, mark.size()) == mark;
+    // Marked exactly when its gain in the fold is under the threshold.
+    const double gain = std::stod(l.substr(pd + std::string("pitch_damping (linearised delta chi2 ").size()));
+    EXPECT_EQ(marked, gain <= chi2_isf(o.alpha / 2, 1.0)) << l;
+    std::cerr << l << "\n";
+  }
+  EXPECT_EQ(all.rfind("pitch_damping (", 0), 0u) << "the all-glider step did not pick pitch damping first: " << all;
+  EXPECT_EQ(folds, 3);
+  for (const auto& e : r.effects)
+    if (e.effect == Effect::PitchDamping) {
+      ASSERT_EQ(e.parameters.size(), 1u);
+      EXPECT_NEAR(e.parameters[0], 1.0, 0.1);
+    }
 }
 
 // The oracle (the baseline plus the known correction, centre values refitted

@@ -301,16 +301,19 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profile"] is True
     assert camera_case[1]["options"]["profile_min_gliders"] == 6
     assert camera_case[1]["options"]["profiled_candidates"] == 3
+    assert camera_case[1]["options"]["carry_steps"] is True
     assert camera_case[1]["options"]["glider_guard"] is True
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
-    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable"])
+    r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
+                                               "--no-carry-steps"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
     assert j["options"]["glider_guard"] is False
     assert j["options"]["prefer_identifiable"] is True
+    assert j["options"]["carry_steps"] is False
     # null data: nothing significant, so nothing to pass over
     assert "passed_over" not in j
     assert all(e["cross_validation"]["robust_pass"] for e in j["effects"])
@@ -431,6 +434,7 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--profile", "--no-profile"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
     (["diagnose", "DS", "--json", "OUT", "--profiled-candidates", "-1"], "--profiled-candidates"),
+    (["diagnose", "DS", "--json", "OUT", "--carry-steps", "--no-carry-steps"], "contradict"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None
