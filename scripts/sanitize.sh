@@ -32,8 +32,10 @@ echo "sanitize: build $((t1 - t0)) s"
 # The same for the profiled diagnosis (--profile, two minutes in Release): its
 # path runs sanitized in FlightsOfTheBaselineModelLeaveNoGap's second half and
 # the DiagnosisFit.LinearStep tests; the second round's re-check with re-tuned
-# centre values (three minutes in Release) runs the same fits and steps.
-EXCLUDE='^(CaptureTrack\.ManualCorrectionsReplaceAddAndRemovePoints|Diagnose\.FindsTheCorrectionThatMadeTheFlights|Diagnose\.ProfiledStartsFitTheTrueCorrectionToTheNoise|Diagnose\.SecondRoundReChecksWithTheCentreValuesReTuned)$'
+# centre values (three minutes in Release) runs the same fits and steps, and
+# so do the carried steps' two profiled diagnoses (two minutes in Release;
+# carrying only chooses which of the same steps a fold makes).
+EXCLUDE='^(CaptureTrack\.ManualCorrectionsReplaceAddAndRemovePoints|Diagnose\.FindsTheCorrectionThatMadeTheFlights|Diagnose\.ProfiledStartsFitTheTrueCorrectionToTheNoise|Diagnose\.SecondRoundReChecksWithTheCentreValuesReTuned|Diagnose\.CarriedStepsRefitTheAllGliderCandidatesInEveryFold)$'
 (cd "$B" && ctest --output-on-failure -j"$(nproc)" --timeout 1800 -E "$EXCLUDE")
 t2=$(date +%s)
 echo "sanitize: engine tests and fuzz replays under ASan+UBSan+LSan $((t2 - t1)) s"
