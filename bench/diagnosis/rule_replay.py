@@ -92,10 +92,10 @@ RULES = [("as built", built), ("held-out alone for collinear effects", heldout_f
          ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust)]
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+", help="directories holding case directories (searched recursively)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     cases = []
     seen = set()
     for d in args.dirs:

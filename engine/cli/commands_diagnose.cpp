@@ -142,8 +142,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.profile = !a.flag("--no-profile");
   if (a.flag("--carry-steps") && a.flag("--no-carry-steps"))
     throw InputError("--carry-steps and --no-carry-steps contradict each other");
-  if (a.flag("--carry-steps")) o.carry_steps = true;
-  if (a.flag("--no-carry-steps")) o.carry_steps = false;
+  o.carry_steps = !a.flag("--no-carry-steps");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);

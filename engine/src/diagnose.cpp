@@ -946,11 +946,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       starts[e].push_back(D.linear_step(base, free, J, c, &sse_e));
       const double gain = (sse_base - sse_e) / s2_noise;
       const bool passes = gain > chi2_isf(o.alpha / ne, static_cast<double>(cols[e].size()));
+      const bool carry = carried && (*carried)[e];
       if (passes)
         gains.push_back({gain, e});
-      else if (carried && (*carried)[e])
+      else if (carry)
         carried_gains.push_back({gain, e});
-      if (passes || (carried && (*carried)[e]))
+      if (passes || carry)
         for (std::size_t i = 1; i < std::size(kStepFractions); ++i)
           starts[e].push_back(D.linear_step(base, free, J, c, nullptr, kStepFractions[i]));
     }

@@ -227,12 +227,7 @@ def test_rule_replay_counts_what_each_rule_would_have_declared(tmp_path, capsys)
                                           _stored("wind", False, 0.02, 40.0, False)])
     _write_case(tmp_path, "wind-1-s3", [_stored("wind", False, 0.07, 40.0, False, robust=0.02)])
     _write_case(tmp_path, "not-a-case", [_stored("wind", True, 0.5, 99.0, False)])  # ignored: not a case name
-    argv = sys.argv
-    sys.argv = ["rule_replay.py", str(tmp_path)]
-    try:
-        assert rr.main() == 0
-    finally:
-        sys.argv = argv
+    assert rr.main([str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "3 diagnoses replayed (1 null, 2 single-effect)" in out
     assert "| as built | 0 of 1 (95 % bound 95.0 %) | 1 of 2 | 0 of 2 |" in out

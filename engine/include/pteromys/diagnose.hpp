@@ -151,8 +151,9 @@ struct DiagnoseOptions {
   int profiled_candidates = 3;
   /// Profiled starts in the folds: the candidates refitted from their step
   /// on all gliders are refitted from their step in every fold's training
-  /// fit too, whatever their gain there (the rest of the cap goes to the
-  /// fold's own largest gains that pass the threshold). A fold's training
+  /// fit too, whatever their gain there, in the places (of
+  /// profiled_candidates) the fold's own largest gains that pass the
+  /// threshold leave free. A fold's training
   /// gliders are a subset of all gliders: an effect the coefficients imitate
   /// can show a gain on all gliders and none on a subset, and then its
   /// held-out predictions in that fold keep the coefficients fitted without
