@@ -110,11 +110,12 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--plausible", "--profile-min-gliders",
-                                        "--profiled-candidates"};
+                                        "--profiled-candidates", "--step-alpha"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
-                             "--prefer-identifiable", "--carry-steps", "--no-carry-steps"});
+                             "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
+                             "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -143,6 +144,10 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--carry-steps") && a.flag("--no-carry-steps"))
     throw InputError("--carry-steps and --no-carry-steps contradict each other");
   o.carry_steps = !a.flag("--no-carry-steps");
+  if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
+    throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
+  if (a.flag("--step-per-flight")) o.step_per_flight = true;
+  if (a.flag("--no-step-per-flight")) o.step_per_flight = false;
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);
@@ -165,6 +170,10 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.polish = whole(a, "--polish", o.polish, 0, 100);
   o.profile_min_gliders = whole(a, "--profile-min-gliders", o.profile_min_gliders, 1, 100000);
   o.profiled_candidates = whole(a, "--profiled-candidates", o.profiled_candidates, 0, 100);
+  if (a.has("--step-alpha")) {
+    o.step_alpha = a.number("--step-alpha", o.step_alpha);
+    if (!(o.step_alpha > 0 && o.step_alpha <= 1)) throw InputError("--step-alpha must be in (0, 1]");
+  }
   if (a.has("--launch-rotation"))
     o.launch_rotation_per_flight = launch_rotation_per_flight_from(a.get("--launch-rotation"), "--launch-rotation");
   if (a.has("--oracle")) o.oracle = oracle_from(a.get("--oracle"), "--oracle");
@@ -276,10 +285,16 @@ const bool registered_diagnose = register_command(
          "                          largest linearised gains first (default 3; each costs about a\n"
          "                          fixed-coefficient fit; a verdict's effect not among them on\n"
          "                          all gliders is refitted from its step there for its strength)\n"
+         "  --step-alpha A          level of the screen for those refits (default: --alpha; 1:\n"
+         "                          every candidate with a linearised gain, up to N): only a\n"
+         "                          start, significance is decided after the fits\n"
          "  --no-carry-steps        the folds refit from their step only the candidates whose\n"
          "                          gain passes there (by default those refitted from their step\n"
          "                          on all gliders are refitted so in every fold too, whatever\n"
          "                          their gain there: docs); --carry-steps: the default, explicitly\n"
+         "  --step-per-flight       profiled starts for launch_rotation per flight too: from its\n"
+         "                          fit the centre values take their linearised step (docs);\n"
+         "                          --no-step-per-flight: without (the default)\n"
          "  --launch-rotation M     per-flight (default): every flight's own pitch rate at its\n"
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"

@@ -91,6 +91,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("glider_guard")) o.glider_guard = kw["glider_guard"].cast<bool>();
   if (kw.contains("prefer_identifiable")) o.prefer_identifiable = kw["prefer_identifiable"].cast<bool>();
   if (kw.contains("carry_steps")) o.carry_steps = kw["carry_steps"].cast<bool>();
+  if (kw.contains("step_per_flight")) o.step_per_flight = kw["step_per_flight"].cast<bool>();
   if (kw.contains("profile")) o.profile = kw["profile"].cast<bool>();
   o.alpha = num("alpha", o.alpha);
   o.min_shrink = num("min_shrink", o.min_shrink);
@@ -100,6 +101,10 @@ DiagnoseOptions options_from(const py::dict& kw) {
   o.polish = whole("polish", o.polish, 0, 100);
   o.profile_min_gliders = whole("profile_min_gliders", o.profile_min_gliders, 1, 100000);
   o.profiled_candidates = whole("profiled_candidates", o.profiled_candidates, 0, 100);
+  if (kw.contains("step_alpha")) {
+    o.step_alpha = num("step_alpha", o.step_alpha);
+    if (!(o.step_alpha > 0 && o.step_alpha <= 1)) throw InputError("step_alpha must be in (0, 1]");
+  }
   if (kw.contains("launch_rotation"))
     o.launch_rotation_per_flight =
         launch_rotation_per_flight_from(kw["launch_rotation"].cast<std::string>(), "launch_rotation");

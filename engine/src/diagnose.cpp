@@ -507,6 +507,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   if (!(o.none_tolerance >= 0)) throw InputError("the noise tolerance must not be negative");
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("phase limits must not be negative");
   if (o.profiled_candidates < 0) throw InputError("the number of profiled candidates must not be negative");
+  if (!(o.step_alpha >= 0 && o.step_alpha <= 1))
+    throw InputError("the level of the profiled starts' screen must be in [0, 1] (0: the test's level)");
   check_oracle(o.oracle, "oracle");
   check_plausible(o.plausible, "plausible");
   DiagFitOptions so = o.sim;
@@ -588,6 +590,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // every effect is credited with the rest of the baseline's fit (seen: an
   // effect at strength 0 "explaining" a third of the baseline's error).
   const double s2_noise = d.tracking_sigma_m * d.tracking_sigma_m;
+  const double step_level = o.step_alpha > 0 ? o.step_alpha : o.alpha;  // DiagnoseOptions::step_alpha
   // `give_up_above`: return after the first fit when its SSE is still above
   // this (a start that cannot become the fit kept; see kGiveUpFactor).
   auto settled = [&](const DiagModel& start, const std::vector<int>& flights, const std::vector<FreeParam>& free,
@@ -938,6 +941,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // carried candidates displaced finite span, whose gains of 26 and 81 in
     // two folds had named it, and the verdict was lost).
     std::vector<std::pair<double, int>> gains, carried_gains;
+    std::pair<double, int> largest_left{0.0, -1};  // the largest positive gain under the screen, for the progress line
     for (int e = 0; e < ne; ++e) {
       if (cols[e].empty()) continue;
       std::vector<int> c = base_cols;
@@ -945,12 +949,15 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       double sse_e = 0;
       starts[e].push_back(D.linear_step(base, free, J, c, &sse_e));
       const double gain = (sse_base - sse_e) / s2_noise;
-      const bool passes = gain > chi2_isf(o.alpha / ne, static_cast<double>(cols[e].size()));
+      const bool passes =
+          gain > (step_level >= 1 ? 0.0 : chi2_isf(step_level / ne, static_cast<double>(cols[e].size())));
       const bool carry = carried && (*carried)[e];
       if (passes)
         gains.push_back({gain, e});
       else if (carry)
         carried_gains.push_back({gain, e});
+      else if (gain > 0 && !(largest_left.first >= gain))
+        largest_left = {gain, e};
       if (passes || carry)
         for (std::size_t i = 1; i < std::size(kStepFractions); ++i)
           starts[e].push_back(D.linear_step(base, free, J, c, nullptr, kStepFractions[i]));
@@ -970,8 +977,12 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     for (int e = 0; e < ne; ++e)
       if (!keep[e]) starts[e].clear();
     if (stepped) *stepped = keep;
+    std::string left;
+    if (largest_left.second >= 0)
+      left = "; largest under the threshold: " + effect_name(o.effects[largest_left.second]) + " (" +
+             fmt(largest_left.first, 3) + ")";
     report("baseline", label + ": candidates refitted from the linearised step with the centre values: " +
-                           (kept.empty() ? std::string("none passes the threshold") : kept), false);
+                           (kept.empty() ? std::string("none passes the threshold") : kept) + left, false);
     // The baseline's own step (on its columns of the same Jacobian).
     if (auto n = own_step(base, space, J, flights, space.trims, label)) base = std::move(*n);
     return starts;
@@ -991,6 +1002,38 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     std::vector<std::vector<DiagModel>> starts;
     if (profiled) starts = profile_starts(base, flights, label, stepped, carried);
     std::vector<FitOutcome> out = fit_effects(before, flights, label, true, {}, {}, false, profiled ? &starts : nullptr);
+    // A per-flight candidate (every flight's own launch pitch rate) has no
+    // shared strength to step: its centre values are stepped from its own
+    // fit instead, as the baseline's are from the baseline
+    // (DiagnoseOptions::step_per_flight).
+    constexpr int kRateSteps = 3;
+    if (profiled && o.step_per_flight)
+      for (int e = 0; e < ne; ++e) {
+        if (!per_flight(o.effects[e]) || !(out[e].sse < before.sse)) continue;
+        const double was = out[e].rmse();
+        // The rates move with the centre values: the step is taken again
+        // from where it landed while it gains (at most kRateSteps times).
+        for (int step = 0; step < kRateSteps; ++step) {
+          const StepSpace s = step_space(out[e], flights);
+          const Eigen::MatrixXd J = D.projected_jacobian(out[e], s.free);
+          auto settle = shared_params_of(o.effects[e]);
+          settle.insert(settle.end(), s.trims.begin(), s.trims.end());
+          auto n = own_step(out[e], s, J, flights, settle, "");
+          if (!n) break;
+          // As every profiled candidate: a short joint refit with the centre values follows.
+          auto joint = centre_values(n->model.coefficients);
+          joint.insert(joint.end(), settle.begin(), settle.end());
+          const auto wn = launches_of(*n);
+          FitOutcome q = D.fit(n->model, flights, joint, &wn, kProfileIterations);
+          if (q.sse < n->sse) *n = std::move(q);
+          mean_rate(*n);
+          out[e] = std::move(*n);
+        }
+        report("effect", label + ": " + effect_name(o.effects[e]) + " with its centre values from the linearised step: RMSE " +
+                             fmt(100 * out[e].rmse(), 3) + " cm (was " + fmt(100 * was, 3) + " cm" +
+                             (out[e].rmse() < was ? "; kept)" : ")"),
+               false);
+      }
     // Until the baseline stops improving (at most three rounds): a refitted
     // candidate can find yet another basin of centre values.
     const int rounds = o.polish > 0 ? 3 : 1;  // basins of centre values exist only when they are fitted
@@ -2303,6 +2346,8 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profile_min_gliders", o.profile_min_gliders},
                   {"profiled_candidates", o.profiled_candidates},
                   {"carry_steps", o.carry_steps},
+                  {"step_per_flight", o.step_per_flight},
+                  {"step_alpha", o.step_alpha > 0 ? o.step_alpha : o.alpha},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
   // The plausible sizes in force (reported units; effects without a finite

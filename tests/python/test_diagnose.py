@@ -302,6 +302,8 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profile_min_gliders"] == 6
     assert camera_case[1]["options"]["profiled_candidates"] == 3
     assert camera_case[1]["options"]["carry_steps"] is True
+    assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["step_alpha"] == camera_case[1]["options"]["alpha"]
     assert camera_case[1]["options"]["glider_guard"] is True
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
@@ -435,6 +437,10 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
     (["diagnose", "DS", "--json", "OUT", "--profiled-candidates", "-1"], "--profiled-candidates"),
     (["diagnose", "DS", "--json", "OUT", "--carry-steps", "--no-carry-steps"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--step-per-flight", "--no-step-per-flight"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--step-alpha", "0"], "--step-alpha"),
+    (["diagnose", "DS", "--json", "OUT", "--step-alpha", "1.5"], "--step-alpha"),
+    (["diagnose", "DS", "--json", "OUT", "--step-alpha", "nan"], "--step-alpha"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None
