@@ -17,6 +17,7 @@ import glob
 import json
 import os
 import resource
+import shlex
 import subprocess
 import sys
 import time
@@ -36,6 +37,8 @@ def main():
                     help="effects of the generated dataset (default physics: the six aerodynamic ones); with one "
                          "the diagnosis finds (e.g. wind), the second round runs too, the slowest case")
     ap.add_argument("--polish", type=int, default=0, help="passed to diagnose (default 0, its default)")
+    ap.add_argument("--diagnose-args", default="",
+                    help='further options for the diagnosis, e.g. "--step-alpha 1" (for experiments)')
     ap.add_argument("--no-report", action="store_true", help="time the diagnosis without the HTML report")
     ap.add_argument("--profile", action="store_true",
                     help="pass --profile (profiled starts, the default since 2026-11-26; for binaries of earlier commits)")
@@ -72,6 +75,7 @@ def main():
         cmd += ["--profile"]
     if args.no_profile:
         cmd += ["--no-profile"]
+    cmd += shlex.split(args.diagnose_args)
     print("$ " + " ".join(cmd), flush=True)
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.time()

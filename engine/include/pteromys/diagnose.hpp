@@ -178,7 +178,8 @@ struct DiagnoseOptions {
   /// own do, each followed by the short joint refit every profiled candidate
   /// gets, again from where it lands while it gains (at most three steps).
   /// Experimental (blind launch rotation at 1: held-out shrink 0.0 -> 2.1 %
-  /// on seed 26, its oracle 4.5 %; docs/diagnosis.md).
+  /// on seed 26, 1.6 -> 4.4 % on seed 24, their oracles 4.5 and 6.0 %;
+  /// docs/diagnosis.md).
   bool step_per_flight = false;
   /// launch_rotation as a launch parameter: every flight's pitch rate at its
   /// first tracked point is fitted (one more launch value per flight, on
