@@ -584,7 +584,8 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
 // default level no linearised gain passes, and the progress line names the
 // largest positive gain left under the threshold; at level 1 every
 // candidate with a positive gain is stepped, that one first, with the same
-// gain. Levels outside [0, 1] are refused.
+// gain, marked as under the test's threshold. Levels outside [0, 1] are
+// refused.
 TEST(Diagnose, TheStepScreensLevelDecidesWhichCandidatesAreStepped) {
   const Dataset d = corrected_flights(EffectValues{}, 0.002, 5);
   DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind});
@@ -608,7 +609,8 @@ TEST(Diagnose, TheStepScreensLevelDecidesWhichCandidatesAreStepped) {
   const auto open = largest.find(" (");
   ASSERT_NE(open, std::string::npos) << largest;
   const std::string all = all_gliders_line(1);
-  EXPECT_EQ(all.rfind(largest.substr(0, open) + " (linearised delta chi2 " + largest.substr(open + 2), 0), 0u)
+  const std::string gain = largest.substr(open + 2, largest.size() - open - 3);
+  EXPECT_EQ(all.rfind(largest.substr(0, open) + " (linearised delta chi2 " + gain + "; under the test's threshold)", 0), 0u)
       << all << " / " << by_default;
   for (double bad : {-0.1, 1.5, std::nan("")}) {
     o.step_alpha = bad;
