@@ -149,12 +149,15 @@ struct DiagnoseOptions {
   /// effect that was not among them on all gliders is refitted from its step
   /// there after the decision, for its strength.
   int profiled_candidates = 3;
-  /// Level of the profiled starts' screen (Bonferroni over the candidates,
-  /// like DiagnoseOptions::alpha): a candidate is refitted from its step when
-  /// its linearised gain exceeds the chi-square quantile of its parameter
-  /// count at level step_alpha / m. 0: the test's own level, alpha. Only a
-  /// start: whether an effect is significant is decided by the tests after
-  /// the fits. 1: every candidate with a gain qualifies, the largest first.
+  /// Level of the profiled starts' screen in the folds' training fits
+  /// (Bonferroni over the candidates, like DiagnoseOptions::alpha): a
+  /// candidate is refitted from its step when its linearised gain exceeds
+  /// the chi-square quantile of its parameter count at level step_alpha / m.
+  /// 0: the test's own level, alpha. Only a start: whether an effect is
+  /// significant is decided by the tests after the fits. 1: every candidate
+  /// with a gain qualifies, the largest first, after the carried ones. The
+  /// fit to all gliders keeps the test's level (there a laxer screen made
+  /// the baseline absorb an effect and its likelihood-ratio test fail).
   double step_alpha = 0;
   /// Profiled starts in the folds: the candidates refitted from their step
   /// on all gliders are refitted from their step in every fold's training
