@@ -146,8 +146,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.carry_steps = !a.flag("--no-carry-steps");
   if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
     throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
-  if (a.flag("--step-per-flight")) o.step_per_flight = true;
-  if (a.flag("--no-step-per-flight")) o.step_per_flight = false;
+  o.step_per_flight = a.flag("--step-per-flight");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);

@@ -627,6 +627,18 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // strengths and the centre values, the full step first, then damped ones
   // (DiagnoseOptions::profile; none where the list is empty).
   constexpr int kProfileIterations = 0;  // Levenberg-Marquardt iterations of a profiled candidate's joint refit (0: as every fit)
+  // One step is not the joint optimum (pitch damping on flights of the
+  // model with it at full size: strength 0.33 after the step, 0.95
+  // polished): a short joint refit of `p` with the centre values and `free`
+  // follows, kept when better.
+  auto joint_refit = [&](FitOutcome& p, const std::vector<int>& flights, const std::vector<FreeParam>& free) {
+    auto joint = centre_values(p.model.coefficients);
+    joint.insert(joint.end(), free.begin(), free.end());
+    const auto wp = launches_of(p);
+    FitOutcome q = D.fit(p.model, flights, joint, &wp, kProfileIterations);
+    if (q.sse < p.sse) p = std::move(q);
+    mean_rate(p);
+  };
   auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                          bool counted = true, std::vector<int> which = {}, const std::vector<FreeParam>& extra = {},
                          bool conditional = false, const std::vector<std::vector<DiagModel>>* profiled = nullptr) {
@@ -696,15 +708,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
                  false);
           if (h.sse < p.sse) p = std::move(h);
         }
-        // One step is not the joint optimum (pitch damping on flights of
-        // the model with it at full size: strength 0.33 after the step, 0.95
-        // polished): a short joint refit with the centre values follows.
-        auto joint = centre_values(p.model.coefficients);
-        joint.insert(joint.end(), free.begin(), free.end());
-        const auto wp = launches_of(p);
-        FitOutcome q = D.fit(p.model, flights, joint, &wp, kProfileIterations);
-        if (q.sse < p.sse) p = std::move(q);
-        mean_rate(p);
+        joint_refit(p, flights, free);
         report("effect", label + ": " + effect_name(o.effects[e]) + " from the linearised step with the centre values (" +
                              describe_parameters(o.effects[e], effect_values(p.model.effects, o.effects[e])) +
                              "): RMSE " + cm(p.rmse()) + (p.sse < out[e].sse ? " (kept)" : ""), false);
@@ -1035,13 +1039,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
           settle.insert(settle.end(), s.trims.begin(), s.trims.end());
           auto n = own_step(out[e], s, J, flights, settle, "");
           if (!n) break;
-          // As every profiled candidate: a short joint refit with the centre values follows.
-          auto joint = centre_values(n->model.coefficients);
-          joint.insert(joint.end(), settle.begin(), settle.end());
-          const auto wn = launches_of(*n);
-          FitOutcome q = D.fit(n->model, flights, joint, &wn, kProfileIterations);
-          if (q.sse < n->sse) *n = std::move(q);
-          mean_rate(*n);
+          joint_refit(*n, flights, settle);  // as every profiled candidate
           out[e] = std::move(*n);
         }
         report("effect", label + ": " + effect_name(o.effects[e]) + " with its centre values from the linearised step: RMSE " +
