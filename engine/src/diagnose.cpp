@@ -590,7 +590,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // every effect is credited with the rest of the baseline's fit (seen: an
   // effect at strength 0 "explaining" a third of the baseline's error).
   const double s2_noise = d.tracking_sigma_m * d.tracking_sigma_m;
-  const double step_level = o.step_alpha > 0 ? o.step_alpha : o.alpha;  // DiagnoseOptions::step_alpha
+  const double step_level = o.step_level();
   // `give_up_above`: return after the first fit when its SSE is still above
   // this (a start that cannot become the fit kept; see kGiveUpFactor).
   auto settled = [&](const DiagModel& start, const std::vector<int>& flights, const std::vector<FreeParam>& free,
@@ -2360,7 +2360,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profiled_candidates", o.profiled_candidates},
                   {"carry_steps", o.carry_steps},
                   {"step_per_flight", o.step_per_flight},
-                  {"step_alpha", o.step_alpha > 0 ? o.step_alpha : o.alpha},
+                  {"step_alpha", o.step_level()},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};
   // The plausible sizes in force (reported units; effects without a finite

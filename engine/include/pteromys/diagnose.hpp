@@ -213,6 +213,10 @@ struct DiagnoseOptions {
   /// beyond them is not significant (EffectResult::plausible).
   std::vector<std::pair<Effect, std::vector<double>>> plausible;
   int threads = 0;                ///< 0 = all cores
+
+  /// The profiled starts' screen level in force in the folds: step_alpha,
+  /// or alpha where it is 0.
+  double step_level() const { return step_alpha > 0 ? step_alpha : alpha; }
 };
 
 /// DiagnoseOptions::oracle from "EFFECT=V[:V2],..." (values in reported
