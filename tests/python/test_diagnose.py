@@ -303,7 +303,8 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profiled_candidates"] == 3
     assert camera_case[1]["options"]["carry_steps"] is True
     assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
-    assert camera_case[1]["options"]["step_alpha"] == camera_case[1]["options"]["alpha"]
+    # the folds' screen steps every candidate with a gain by default
+    assert camera_case[1]["options"]["step_alpha"] == 1.0
     assert camera_case[1]["options"]["glider_guard"] is True
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
