@@ -159,7 +159,7 @@ struct DiagnoseOptions {
   /// default since 2026-11-28): every candidate with a gain qualifies, the
   /// largest first, after the carried ones (blind finite span at 1, seeds 25
   /// and 26: named, 7.5 % and 7.8 %, against 7.2 % and `unexplained` at
-  /// alpha; 10 fresh null seeds all `none`). The fit to all gliders keeps
+  /// alpha; 18 fresh null seeds, none significant). The fit to all gliders keeps
   /// the test's level (there a laxer screen made the baseline absorb an
   /// effect and its likelihood-ratio test fail).
   double step_alpha = 1;
