@@ -584,11 +584,11 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
 
 // The profiled starts' screen in the folds (DiagnoseOptions::step_alpha).
 // Flights of the baseline model (2 mm noise), pitch damping and wind as
-// candidates: at the default level no linearised gain passes in the first
-// fold, whose progress line names the largest positive gain left under the
-// threshold; at level 1 every candidate with a positive gain is stepped
-// there, that one first, with the same gain, marked as under the test's
-// threshold. The fit to all gliders keeps the test's level: its line is the
+// candidates: at the test's level (step_alpha 0: alpha) no linearised gain
+// passes in the first fold, whose progress line names the largest positive
+// gain left under the threshold; at level 1 (the default) every candidate
+// with a positive gain is stepped there, that one first, with the same
+// gain, marked as under the test's threshold. The fit to all gliders keeps the test's level: its line is the
 // same at both levels. Levels outside [0, 1] are refused.
 TEST(Diagnose, TheStepScreensLevelDecidesWhichCandidatesAreStepped) {
   const Dataset d = corrected_flights(EffectValues{}, 0.002, 5);
@@ -612,19 +612,19 @@ TEST(Diagnose, TheStepScreensLevelDecidesWhichCandidatesAreStepped) {
     EXPECT_EQ(diagnosis_json(r, o)["options"].value("step_alpha", -1.0), level > 0 ? level : o.alpha);
     return found;
   };
-  const Lines by_default = lines_at(0);
+  const Lines at_alpha = lines_at(0);
   const std::string under = "none passes the threshold; largest under the threshold: ";
-  ASSERT_EQ(by_default.fold1.rfind(under, 0), 0u) << by_default.fold1;
-  const std::string largest = by_default.fold1.substr(under.size());  // "NAME (GAIN)"
+  ASSERT_EQ(at_alpha.fold1.rfind(under, 0), 0u) << at_alpha.fold1;
+  const std::string largest = at_alpha.fold1.substr(under.size());  // "NAME (GAIN)"
   const auto open = largest.find(" (");
   ASSERT_NE(open, std::string::npos) << largest;
   const std::string gain = largest.substr(open + 2, largest.size() - open - 3);
   const Lines lax = lines_at(1);
   EXPECT_EQ(lax.fold1.rfind(largest.substr(0, open) + " (linearised delta chi2 " + gain + "; under the test's threshold)", 0),
             0u)
-      << lax.fold1 << " / " << by_default.fold1;
-  EXPECT_FALSE(by_default.all.empty());
-  EXPECT_EQ(lax.all, by_default.all);
+      << lax.fold1 << " / " << at_alpha.fold1;
+  EXPECT_FALSE(at_alpha.all.empty());
+  EXPECT_EQ(lax.all, at_alpha.all);
   for (double bad : {-0.1, 1.5, std::nan("")}) {
     o.step_alpha = bad;
     EXPECT_THROW(diagnose(d, o), InputError) << bad;
