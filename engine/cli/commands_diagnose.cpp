@@ -115,6 +115,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
+                             "--heldout-steps", "--no-heldout-steps",
                              "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
@@ -144,6 +145,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--carry-steps") && a.flag("--no-carry-steps"))
     throw InputError("--carry-steps and --no-carry-steps contradict each other");
   o.carry_steps = !a.flag("--no-carry-steps");
+  if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
+    throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
+  o.heldout_steps = a.flag("--heldout-steps");
   if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
     throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
   o.step_per_flight = a.flag("--step-per-flight");
@@ -292,6 +296,10 @@ const bool registered_diagnose = register_command(
          "                          gain passes there (by default those refitted from their step\n"
          "                          on all gliders are refitted so in every fold too, whatever\n"
          "                          their gain there: docs); --carry-steps: the default, explicitly\n"
+         "  --heldout-steps         a candidate the held-out gliders confirm but whose gain on\n"
+         "                          all gliders was under the screen is refitted from its step\n"
+         "                          there before its likelihood-ratio test (experimental: docs);\n"
+         "                          --no-heldout-steps: without (the default)\n"
          "  --step-per-flight       profiled starts for launch_rotation per flight too: from its\n"
          "                          fit the centre values take their linearised step (docs);\n"
          "                          --no-step-per-flight: without (the default)\n"

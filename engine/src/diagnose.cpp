@@ -345,6 +345,11 @@ SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects
   return out;
 }
 
+bool heldout_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool stepped, bool per_flight) {
+  return !stepped && !per_flight && r.shrink >= o.min_shrink &&
+         (!o.holdout_chi2_test || r.holdout_delta_chi2 > r.holdout_threshold) && r.robust_pass && r.plausible;
+}
+
 IdentifiablePreference prefer_identifiable(const std::vector<EffectResult>& effects, int best,
                                            const std::vector<std::vector<double>>& glider_sse, double alpha) {
   const int n = static_cast<int>(effects.size());
@@ -1584,6 +1589,46 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     r.implausible = describe_implausible(E, r.parameters, limits[e]);
     r.plausible = r.implausible.empty();
   }
+  // ------------------------------------------------------------ held-out-led steps
+  // (DiagnoseOptions::heldout_steps) A candidate the held-out gliders confirm
+  // but that kept the baseline's centre values on all gliders (its gain
+  // there was under the screen) is refitted from its linearised step there,
+  // as the screen would have done, and its likelihood ratio is taken from
+  // that fit when it explains the flights better (and plausibly). The
+  // baseline stays as it is; the decisions below are the same rule.
+  if (o.heldout_steps && o.full_fit && o.profile && o.polish <= 0 &&
+      centre_count(base_full.model.coefficients) > 0 && profiled_on(gliders_of(all_flights))) {
+    double heldout_steps_s = 0;
+    for (int e = 0; e < ne; ++e) {
+      EffectResult& r = res.effects[e];
+      const Effect E = o.effects[e];
+      if (!heldout_step_eligible(r, o, full_stepped[e], per_flight(E))) continue;
+      const auto ts = Clock::now();
+      const std::string label = "all gliders, held-out-led";
+      report("analysis", label + ": " + effect_name(E) + " (held-out shrink " + fmt(100 * r.shrink, 3) +
+                             " %) refitted from its linearised step with the centre values",
+             false);
+      const CandidateStep step = candidate_step(base_full, all_flights, e);
+      FitOutcome n = fit_effects(base_full, all_flights, label, false, {e}, {}, false, &step.starts)[e];
+      const auto after = effect_values(n.model.effects, E);
+      const std::string implausible = describe_implausible(E, after, limits[e]);
+      const bool better = n.sse < eff_full[e].sse && implausible.empty();
+      report("analysis", label + ": " + effect_name(E) + " " + describe_parameters(E, after) + ", RMSE " +
+                             cm(n.rmse()) + (implausible.empty() ? std::string() : " (" + implausible + ")") +
+                             "; without: " + describe_parameters(E, r.parameters) + ", RMSE " +
+                             cm(eff_full[e].rmse()) + (better ? " (the step kept)" : " (kept)"),
+             false);
+      if (better) {
+        eff_full[e] = std::move(n);
+        full_stepped[e] = true;
+        r.fit_rmse_m = eff_full[e].rmse();
+        r.parameters = after;
+        set_likelihood_ratio(r, E, base_full.sse - eff_full[e].sse, eff_full[e].sse);
+      }
+      heldout_steps_s += since(ts);
+    }
+    timings["heldout_steps_s"] = heldout_steps_s;
+  }
   // The decision rule, the same in both rounds: the likelihood-ratio test
   // passed (Holm), the held-out RMSE shrank by the margin, and the held-out
   // improvement exceeds its chi-square quantile.
@@ -2359,6 +2404,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profile_min_gliders", o.profile_min_gliders},
                   {"profiled_candidates", o.profiled_candidates},
                   {"carry_steps", o.carry_steps},
+                  {"heldout_steps", o.heldout_steps},
                   {"step_per_flight", o.step_per_flight},
                   {"step_alpha", o.step_level()},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},

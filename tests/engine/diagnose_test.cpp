@@ -1220,3 +1220,42 @@ TEST(Diagnose, AnOvershootingStepIsGivenUpAndDamped) {
       EXPECT_LT(e.fit_rmse_m, 2 * 0.002);
     }
 }
+
+// Held-out-led steps (DiagnoseOptions::heldout_steps): which candidates are
+// refitted from their step on all gliders. A candidate the held-out gliders
+// confirm by every held-out part of the decision rule (the margin, the
+// held-out chi-square, the glider guard) with a plausible fit is, whatever
+// its likelihood ratio; one that fails any of them, one already stepped
+// and a per-flight one are not.
+TEST(Diagnose, HeldOutLedStepsTakeOnlyCandidatesTheHeldOutGlidersConfirm) {
+  DiagnoseOptions o;  // margin 5 %, held-out chi-square test on
+  EffectResult r;
+  r.shrink = 0.154;  // blind finite span at 1, seed 28
+  r.holdout_delta_chi2 = 842;
+  r.holdout_threshold = 10.6;
+  r.robust_pass = true;
+  r.plausible = true;
+  r.lr_pass = false;
+  r.delta_chi2 = 0;
+  EXPECT_TRUE(heldout_step_eligible(r, o, false, false));
+  EXPECT_FALSE(heldout_step_eligible(r, o, true, false));   // stepped already
+  EXPECT_FALSE(heldout_step_eligible(r, o, false, true));   // per-flight launch rotation
+  EffectResult under = r;
+  under.shrink = 0.049;
+  EXPECT_FALSE(heldout_step_eligible(under, o, false, false));
+  EffectResult noise = r;
+  noise.holdout_delta_chi2 = 10.5;
+  EXPECT_FALSE(heldout_step_eligible(noise, o, false, false));
+  DiagnoseOptions no_test = o;
+  no_test.holdout_chi2_test = false;
+  EXPECT_TRUE(heldout_step_eligible(noise, no_test, false, false));
+  EffectResult one_glider = r;
+  one_glider.robust_pass = false;
+  EXPECT_FALSE(heldout_step_eligible(one_glider, o, false, false));
+  EffectResult implausible = r;
+  implausible.plausible = false;
+  EXPECT_FALSE(heldout_step_eligible(implausible, o, false, false));
+  DiagnoseOptions wide = o;
+  wide.min_shrink = 0.2;
+  EXPECT_FALSE(heldout_step_eligible(r, wide, false, false));
+}
