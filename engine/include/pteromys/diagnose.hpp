@@ -184,9 +184,12 @@ struct DiagnoseOptions {
   /// all gliders (its gain there under the screen: the baseline's centre
   /// values took it) is refitted from its step there before the
   /// likelihood-ratio test, as if the screen had passed it. The decision
-  /// rule is unchanged; the baseline is not re-fitted. Experimental (blind
-  /// finite span at 1, seed 28: 15.4 % held-out shrink, strength 0 and no
-  /// likelihood ratio on all gliders without it; docs/diagnosis.md).
+  /// rule is unchanged; the baseline is not re-fitted. Experimental, off:
+  /// on blind finite span at 1, seed 28 (15.4 % held-out shrink, strength 0
+  /// and no likelihood ratio on all gliders without it) it names finite span
+  /// (strength 1.01), but on blind pitch damping at 1, seed 26 it names
+  /// added mass (6.1 % held out, which damps pitch alike) where the default
+  /// says `unexplained` (docs/diagnosis.md).
   bool heldout_steps = false;
   /// Profiled starts for a per-flight candidate (launch_rotation with
   /// launch_rotation_per_flight): it has no shared strength to step, so from
