@@ -1589,6 +1589,41 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     r.implausible = describe_implausible(E, r.parameters, limits[e]);
     r.plausible = r.implausible.empty();
   }
+  // Candidate e refitted from its own linearised step with the centre values
+  // on all gliders, from the final all-glider baseline (`label`: the
+  // progress lines' prefix, `why`: what the first line adds to the
+  // effect's name). The refit replaces the candidate's fit (its strength,
+  // fit error and likelihood ratio) when it explains the flights better
+  // and plausibly (a strength beyond the plausible sizes would contradict a
+  // decision made on the plausible one). Returns whether it did. Used where
+  // only profiled starts on all gliders make the step (step_refit_possible).
+  const bool step_refit_possible = o.full_fit && o.profile && o.polish <= 0 &&
+                                   centre_count(base_full.model.coefficients) > 0 &&
+                                   profiled_on(gliders_of(all_flights));
+  auto step_refit = [&](int e, const std::string& label, const std::string& why) {
+    const Effect E = o.effects[e];
+    EffectResult& r = res.effects[e];
+    report("analysis", label + ": " + effect_name(E) + why + " refitted from its linearised step with the centre values",
+           false);
+    const CandidateStep step = candidate_step(base_full, all_flights, e);
+    FitOutcome n = fit_effects(base_full, all_flights, label, false, {e}, {}, false, &step.starts)[e];
+    const auto before = effect_values(eff_full[e].model.effects, E);
+    const auto after = effect_values(n.model.effects, E);
+    const std::string implausible = describe_implausible(E, after, limits[e]);
+    const bool better = n.sse < eff_full[e].sse && implausible.empty();
+    report("analysis", label + ": " + effect_name(E) + " " + describe_parameters(E, after) + ", RMSE " + cm(n.rmse()) +
+                           (implausible.empty() ? std::string() : " (" + implausible + ")") + "; the candidates' fit: " +
+                           describe_parameters(E, before) + ", RMSE " + cm(eff_full[e].rmse()) +
+                           (better ? " (the refit kept)" : " (kept)"),
+           false);
+    if (better) {
+      eff_full[e] = std::move(n);
+      r.fit_rmse_m = eff_full[e].rmse();
+      r.parameters = after;
+      set_likelihood_ratio(r, E, base_full.sse - eff_full[e].sse, eff_full[e].sse);
+    }
+    return better;
+  };
   // ------------------------------------------------------------ held-out-led steps
   // (DiagnoseOptions::heldout_steps) A candidate the held-out gliders confirm
   // but that kept the baseline's centre values on all gliders (its gain
@@ -1596,38 +1631,14 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // as the screen would have done, and its likelihood ratio is taken from
   // that fit when it explains the flights better (and plausibly). The
   // baseline stays as it is; the decisions below are the same rule.
-  if (o.heldout_steps && o.full_fit && o.profile && o.polish <= 0 &&
-      centre_count(base_full.model.coefficients) > 0 && profiled_on(gliders_of(all_flights))) {
-    double heldout_steps_s = 0;
-    for (int e = 0; e < ne; ++e) {
-      EffectResult& r = res.effects[e];
-      const Effect E = o.effects[e];
-      if (!heldout_step_eligible(r, o, full_stepped[e], per_flight(E))) continue;
-      const auto ts = Clock::now();
-      const std::string label = "all gliders, held-out-led";
-      report("analysis", label + ": " + effect_name(E) + " (held-out shrink " + fmt(100 * r.shrink, 3) +
-                             " %) refitted from its linearised step with the centre values",
-             false);
-      const CandidateStep step = candidate_step(base_full, all_flights, e);
-      FitOutcome n = fit_effects(base_full, all_flights, label, false, {e}, {}, false, &step.starts)[e];
-      const auto after = effect_values(n.model.effects, E);
-      const std::string implausible = describe_implausible(E, after, limits[e]);
-      const bool better = n.sse < eff_full[e].sse && implausible.empty();
-      report("analysis", label + ": " + effect_name(E) + " " + describe_parameters(E, after) + ", RMSE " +
-                             cm(n.rmse()) + (implausible.empty() ? std::string() : " (" + implausible + ")") +
-                             "; without: " + describe_parameters(E, r.parameters) + ", RMSE " +
-                             cm(eff_full[e].rmse()) + (better ? " (the step kept)" : " (kept)"),
-             false);
-      if (better) {
-        eff_full[e] = std::move(n);
+  if (o.heldout_steps && step_refit_possible) {
+    const auto ts = Clock::now();
+    for (int e = 0; e < ne; ++e)
+      if (heldout_step_eligible(res.effects[e], o, full_stepped[e], per_flight(o.effects[e])) &&
+          step_refit(e, "all gliders, held-out-led",
+                     " (held-out shrink " + fmt(100 * res.effects[e].shrink, 3) + " %)"))
         full_stepped[e] = true;
-        r.fit_rmse_m = eff_full[e].rmse();
-        r.parameters = after;
-        set_likelihood_ratio(r, E, base_full.sse - eff_full[e].sse, eff_full[e].sse);
-      }
-      heldout_steps_s += since(ts);
-    }
-    timings["heldout_steps_s"] = heldout_steps_s;
+    timings["heldout_steps_s"] = since(ts);
   }
   // The decision rule, the same in both rounds: the likelihood-ratio test
   // passed (Holm), the held-out RMSE shrank by the margin, and the held-out
@@ -1773,34 +1784,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // two fits is kept (for its strength, fit error and likelihood ratio, and
   // as the start of the second round). The decisions stand: they were made
   // before, on the fits every candidate had.
-  if (o.full_fit && res.effects[best].significant && !full_stepped[best] && !per_flight(o.effects[best]) &&
-      o.profile && o.polish <= 0 && centre_count(base_full.model.coefficients) > 0 &&
-      profiled_on(gliders_of(all_flights))) {
+  if (step_refit_possible && res.effects[best].significant && !full_stepped[best] && !per_flight(o.effects[best])) {
     const auto ts = Clock::now();
-    const Effect B = o.effects[best];
-    const CandidateStep step = candidate_step(base_full, all_flights, best);
-    const std::string label = "all gliders, the verdict's strength";
-    report("analysis", label + ": " + effect_name(B) + " refitted from its linearised step with the centre values",
-           false);
-    FitOutcome n = fit_effects(base_full, all_flights, label, false, {best}, {}, false, &step.starts)[best];
-    const auto before = effect_values(eff_full[best].model.effects, B);
-    const auto after = effect_values(n.model.effects, B);
-    // A strength beyond the plausible sizes would contradict the decision
-    // made on the plausible one: the candidates' fit stays then.
-    const std::string implausible = describe_implausible(B, after, limits[best]);
-    const bool better = n.sse < eff_full[best].sse && implausible.empty();
-    report("analysis", label + ": " + effect_name(B) + " " + describe_parameters(B, after) + ", RMSE " + cm(n.rmse()) +
-                           (implausible.empty() ? std::string() : " (" + implausible + ")") + "; the candidates' fit: " +
-                           describe_parameters(B, before) + ", RMSE " + cm(eff_full[best].rmse()) +
-                           (better ? " (the refit kept)" : " (kept)"),
-           false);
-    if (better) {
-      eff_full[best] = std::move(n);
-      EffectResult& r = res.effects[best];
-      r.fit_rmse_m = eff_full[best].rmse();
-      r.parameters = effect_values(eff_full[best].model.effects, B);
-      set_likelihood_ratio(r, B, base_full.sse - eff_full[best].sse, eff_full[best].sse);
-    }
+    step_refit(best, "all gliders, the verdict's strength", "");
     timings["verdict_strength_s"] = since(ts);
   }
 

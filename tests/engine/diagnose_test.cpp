@@ -122,14 +122,20 @@ struct PitchDampingCase {
   Dataset flights;
   DiagnoseOptions options;
 };
+/// small_diagnosis with profiled starts (two gliders per fold's training
+/// set, of corrected_flights' three) and no second round.
+DiagnoseOptions profiled_diagnosis(std::vector<Effect> effects) {
+  DiagnoseOptions o = small_diagnosis(std::move(effects));
+  o.profile = true;
+  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
+  o.second_effect = false;
+  return o;
+}
+
 PitchDampingCase profiled_pitch_damping_case() {
   EffectValues truth;
   truth.pitch_damping = 1.0;
-  PitchDampingCase c{corrected_flights(truth, 0.002, 5), small_diagnosis({Effect::PitchDamping, Effect::Wind})};
-  c.options.profile = true;
-  c.options.profile_min_gliders = 2;  // three gliders, two per fold's training set
-  c.options.second_effect = false;
-  return c;
+  return {corrected_flights(truth, 0.002, 5), profiled_diagnosis({Effect::PitchDamping, Effect::Wind})};
 }
 
 DiagFitOptions quick() {
@@ -528,10 +534,7 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
     for (std::size_t i = 0; i < d.flights.size(); ++i)
       if (d.flights[i].glider == damped) d.flights[i] = with.flights.at(i);
   }
-  DiagnoseOptions o = small_diagnosis({Effect::PitchDamping});
-  o.profile = true;
-  o.profile_min_gliders = 2;  // three gliders, two per fold's training set
-  o.second_effect = false;
+  DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping});
   // The folds' screen at the test's level (by default every positive gain
   // is stepped, and that fold would step pitch damping without carrying).
   o.step_alpha = o.alpha;
@@ -592,10 +595,7 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
 // same at both levels. Levels outside [0, 1] are refused.
 TEST(Diagnose, TheStepScreensLevelDecidesWhichCandidatesAreStepped) {
   const Dataset d = corrected_flights(EffectValues{}, 0.002, 5);
-  DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::Wind});
-  o.profile = true;
-  o.profile_min_gliders = 2;
-  o.second_effect = false;
+  DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping, Effect::Wind});
   const std::string line = "candidates refitted from the linearised step with the centre values: ";
   struct Lines {
     std::string all, fold1;
@@ -644,10 +644,7 @@ TEST(Diagnose, PerFlightRatesStepTheirCentreValues) {
   std::vector<double> rates;
   for (int i = 0; i < 9; ++i) rates.push_back(deg2rad(10.0 + 10.0 * ((i * 4) % 9)));
   const Dataset d = corrected_flights(EffectValues{}, 0.002, 13, rates);
-  DiagnoseOptions o = small_diagnosis({Effect::LaunchRotation});
-  o.profile = true;
-  o.profile_min_gliders = 2;
-  o.second_effect = false;
+  DiagnoseOptions o = profiled_diagnosis({Effect::LaunchRotation});
   const std::string step = "launch_rotation with its centre values from the linearised step";
   auto run = [&](bool on, int& steps) {
     o.step_per_flight = on;
@@ -1194,10 +1191,7 @@ TEST(Diagnose, AnOvershootingStepIsGivenUpAndDamped) {
   EffectValues truth;
   truth.wind = -2.0;
   const Dataset d = corrected_flights(truth, 0.002, 5);
-  DiagnoseOptions o = small_diagnosis({Effect::Wind});
-  o.profile = true;
-  o.profile_min_gliders = 2;
-  o.second_effect = false;
+  const DiagnoseOptions o = profiled_diagnosis({Effect::Wind});
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_EQ(r.verdict, "wind") << r.summary;
