@@ -115,7 +115,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
-                             "--heldout-steps", "--no-heldout-steps",
+                             "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
                              "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
@@ -148,6 +148,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
     throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
   o.heldout_steps = a.flag("--heldout-steps");
+  if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
+    throw InputError("--theory-starts and --no-theory-starts contradict each other");
+  o.theory_starts = a.flag("--theory-starts");
   if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
     throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
   o.step_per_flight = a.flag("--step-per-flight");
@@ -300,6 +303,9 @@ const bool registered_diagnose = register_command(
          "                          all gliders was under the screen is refitted from its step\n"
          "                          there before its likelihood-ratio test (experimental: docs);\n"
          "                          --no-heldout-steps: without (the default)\n"
+         "  --theory-starts         every aerodynamic correction also starts at its theoretical\n"
+         "                          size (strength 1) with the centre values refitted with it\n"
+         "                          (experimental: docs); --no-theory-starts: without (the default)\n"
          "  --step-per-flight       profiled starts for launch_rotation per flight too: from its\n"
          "                          fit the centre values take their linearised step (docs);\n"
          "                          --no-step-per-flight: without (the default)\n"
