@@ -746,11 +746,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         theory.reset();
       }
       if (theory) {
-        auto joint = centre_values(theory->model.coefficients);
-        joint.insert(joint.end(), free.begin(), free.end());
-        const auto wt = launches_of(*theory);
-        FitOutcome q = D.fit(theory->model, flights, joint, &wt);
-        mean_rate(q);
+        FitOutcome& q = *theory;
+        joint_refit(q, flights, free);  // as the profiled steps' joint refit
         const bool kept = q.sse < out[e].sse;
         report("effect", label + ": " + effect_name(o.effects[e]) + " from its theoretical size with the centre values (" +
                              describe_parameters(o.effects[e], effect_values(q.model.effects, o.effects[e])) +

@@ -132,6 +132,12 @@ DiagnoseOptions profiled_diagnosis(std::vector<Effect> effects) {
   return o;
 }
 
+/// How many progress lines contain `needle`.
+int lines_with(const std::vector<std::string>& lines, const std::string& needle) {
+  return static_cast<int>(
+      std::count_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(needle) != std::string::npos; }));
+}
+
 PitchDampingCase profiled_pitch_damping_case() {
   EffectValues truth;
   truth.pitch_damping = 1.0;
@@ -499,10 +505,7 @@ TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
-  int refits = 0;
-  for (const auto& l : lines)
-    if (l.find("the verdict's strength: pitch_damping refitted from its linearised step") != std::string::npos) ++refits;
-  EXPECT_EQ(refits, 1);
+  EXPECT_EQ(lines_with(lines, "the verdict's strength: pitch_damping refitted from its linearised step"), 1);
   for (const auto& e : r.effects)
     if (e.effect == Effect::PitchDamping) {
       ASSERT_EQ(e.parameters.size(), 1u);
@@ -1270,10 +1273,8 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
-  int starts = 0;
-  for (const auto& l : lines)
-    if (l.find("pitch_damping from its theoretical size with the centre values") != std::string::npos) ++starts;
-  EXPECT_GE(starts, 4);  // all gliders and three folds (more when the baseline improves)
+  // all gliders and three folds (more when the baseline improves)
+  EXPECT_GE(lines_with(lines, "pitch_damping from its theoretical size with the centre values"), 4);
   for (const auto& l : lines) EXPECT_EQ(l.find("wind from its theoretical size"), std::string::npos) << l;  // a session effect
   bool seen = false;
   for (const auto& e : r.effects)
