@@ -1263,7 +1263,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   FitOutcome first_train;
   // The oracle's held-out error (DiagnoseOptions::oracle), summed over folds.
   double oracle_sse_ho = 0;
-  std::vector<double> oracle_fold_rmse, oracle_fold_base_rmse;
+  std::vector<double> oracle_fold_rmse, oracle_fold_base_rmse, oracle_fold_train_dchi2;
+  double oracle_train_dsse = 0;
   // Every fold's fits, kept for the second round (given the verdict's effect).
   std::vector<std::vector<int>> fold_train(K), fold_test(K);
   std::vector<std::vector<FitOutcome>> fold_trs(K), fold_hos(K);
@@ -1417,6 +1418,13 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       oracle_sse_ho += oho.sse;
       oracle_fold_rmse.push_back(oho.rmse());
       oracle_fold_base_rmse.push_back(base_ho.rmse());
+      // What the known effects at their known sizes explain on the training
+      // gliders beyond the fold's final baseline: the evidence a diagnosis
+      // that fitted them exactly would have (where it is under the
+      // likelihood-ratio threshold, no search can name the effect on these
+      // flights, whatever the held-out oracle closes).
+      oracle_train_dsse += base_tr.sse - otr.sse;
+      oracle_fold_train_dchi2.push_back((base_tr.sse - otr.sse) / s2_noise);
       report("fold", label + ": oracle (the baseline plus the known effects, centre values refitted): RMSE " +
                          cm(otr.rmse()) + " on training gliders, " + cm(oho.rmse()) + " on held-out gliders (baseline " +
                          cm(base_ho.rmse()) + ")", false);
@@ -1531,6 +1539,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     orc.holdout_chi2_ratio = oracle_sse_ho / (s2 * dof_ho);
     orc.fold_holdout_rmse_m = oracle_fold_rmse;
     orc.fold_baseline_holdout_rmse_m = oracle_fold_base_rmse;
+    orc.fold_train_delta_chi2 = oracle_fold_train_dchi2;
+    orc.train_delta_chi2 = oracle_train_dsse / std::max(1, K - 1) / s2;  // each glider trains in K - 1 folds
     res.oracle = orc;
   }
   double sse0_fit = 0, dof_fit = 1;
@@ -2387,6 +2397,8 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                    {"holdout_chi2_ratio", r.oracle->holdout_chi2_ratio},
                    {"fold_holdout_rmse_m", r.oracle->fold_holdout_rmse_m},
                    {"fold_baseline_holdout_rmse_m", r.oracle->fold_baseline_holdout_rmse_m},
+                   {"train_delta_chi2", r.oracle->train_delta_chi2},
+                   {"fold_train_delta_chi2", r.oracle->fold_train_delta_chi2},
                    {"description", "the baseline plus the given effects at the given values, centre values and trims "
                                    "refitted with them on each fold's training gliders; held-out gliders as the "
                                    "candidates'"}};

@@ -736,11 +736,22 @@ TEST(Diagnose, OracleWithTheTrueCorrectionPredictsToTheNoise) {
   const nlohmann::json j = diagnosis_json(r, o);
   EXPECT_DOUBLE_EQ(j.at("oracle").at("effects").at("pitch_damping").at("strength").get<double>(), 1.0);
   EXPECT_DOUBLE_EQ(j.at("oracle").at("shrink").get<double>(), r.oracle->shrink);
+  // Its evidence on the training gliders: the baseline misses damped flights
+  // (held-out chi-square ratio > 3) and the true correction brings them to
+  // the noise, so in every fold the gain is far over the likelihood-ratio
+  // threshold for one parameter at the diagnosis's level.
+  ASSERT_EQ(r.oracle->fold_train_delta_chi2.size(), 3u);
+  for (double x : r.oracle->fold_train_delta_chi2) EXPECT_GT(x, chi2_isf(o.alpha, 1)) << r.summary;
+  EXPECT_GT(r.oracle->train_delta_chi2, chi2_isf(o.alpha, 1)) << r.summary;
+  EXPECT_DOUBLE_EQ(j.at("oracle").at("train_delta_chi2").get<double>(), r.oracle->train_delta_chi2);
+  EXPECT_EQ(j.at("oracle").at("fold_train_delta_chi2").size(), 3u);
 
   o.oracle = oracle_from("added_mass=1", "--oracle");
   const DiagnoseResult wrong = diagnose(d, o);
   ASSERT_TRUE(wrong.oracle.has_value());
   EXPECT_GT(wrong.oracle->holdout_rmse_m, 1.2 * r.oracle->holdout_rmse_m) << wrong.summary;
+  // The wrong correction explains the training gliders less than the true one.
+  EXPECT_LT(wrong.oracle->train_delta_chi2, r.oracle->train_delta_chi2) << wrong.summary;
 
   for (const char* bad : {"", "wind", "wind=", "wind=x", "wind=nan", "wind=1:2", "gravity=1", "wind=1,wind=2",
                           "ground_effect=50"}) {

@@ -138,8 +138,8 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
         _result([_effect("wind", False, 0.0, 0.0), _effect("camera", False, 0.0, 0.0)], 1.1),
         _result([_effect("camera", True, 0.2, 50.0), _effect("wind", True, 0.1, 50.0)], 5.0),
     ]
-    results[0]["oracle"] = {"shrink": 0.375}
-    results[2]["oracle"] = {"shrink": 0.02}  # under the 5 % margin: no diagnosis can name it
+    results[0]["oracle"] = {"shrink": 0.375, "train_delta_chi2": 412.5}
+    results[2]["oracle"] = {"shrink": 0.02}  # under the 5 % margin: no diagnosis can name it; an older run's oracle
     s = rb.summarise(list(zip(cases, results)))
     # Attributable in principle where the oracle closes at least the margin:
     # wind at 1 (0.375, named); wind at 0.5 not (0.02, unexplained); the
@@ -163,6 +163,10 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
     assert rows["wind-1-s22"]["oracle_shrink"] == pytest.approx(0.375)
     assert rows["wind-1-s22"]["shrink_vs_oracle"] == pytest.approx(0.8)
     assert rows["camera-1-s22"]["oracle_shrink"] is None and "shrink_vs_oracle" not in rows["camera-1-s22"]
+    # The oracle's training gain is carried to its row and the table; absent
+    # (no oracle, or an oracle from before it was reported) it stays empty.
+    assert rows["wind-1-s22"]["oracle_train_dchi2"] == pytest.approx(412.5)
+    assert rows["wind-0.5-s25"]["oracle_train_dchi2"] is None and rows["camera-1-s22"]["oracle_train_dchi2"] is None
     assert rows["camera-1-s22"]["true_rank"] == 2
     assert s["median_shrink_vs_oracle_when_right"] == pytest.approx(0.8)
     assert s["median_shrink_vs_ceiling_when_right"] == pytest.approx(0.4)
@@ -170,6 +174,7 @@ def test_summary_counts_attributions_false_discoveries_and_oracle_shrink():
     assert "Top-1 attribution at the main strength: 1 of 2" in md
     assert "null datasets with a false discovery: 1 of 2" in md
     assert "so that the effect can be named at all: 1; the true effect is the verdict in 1" in md
+    assert "| 37.5 % | 412.5 |" in md
 
 
 def test_summary_tells_a_right_answer_without_a_gap_from_a_wrong_one_and_counts_second_rounds():

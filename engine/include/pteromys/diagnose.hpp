@@ -264,6 +264,13 @@ struct OracleResult {
   double shrink = 0;                ///< 1 - holdout_rmse_m / baseline holdout_rmse_m
   double holdout_chi2_ratio = 0;    ///< SSE / (sigma^2 dof), dof as the baseline's
   std::vector<double> fold_holdout_rmse_m, fold_baseline_holdout_rmse_m;
+  /// Each fold's (baseline - oracle) SSE on its training gliders / sigma^2,
+  /// against the fold's final baseline; and their sum / (folds - 1) (every
+  /// glider trains in all folds but one), on the scale of the candidates'
+  /// likelihood ratios. The oracle refits the centre values, so this counts
+  /// what they gain with the effects as well.
+  std::vector<double> fold_train_delta_chi2;
+  double train_delta_chi2 = 0;
 };
 
 struct DiagnoseProgress {
