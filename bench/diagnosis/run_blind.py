@@ -218,9 +218,10 @@ def summarise(results):
                "baseline_holdout_cm": 100 * b["holdout_rmse_m"], "noise_cm": 100 * b["noise_rmse_m"],
                "ceiling_shrink": ceiling, "oracle_shrink": oracle,
                # The oracle's gain on the training gliders (docs/diagnosis.md,
-               # "Blind validation"): under the likelihood-ratio threshold, the
-               # data cannot show the effect to any search (absent: older runs).
-               "oracle_train_dchi2": r["oracle"].get("train_delta_chi2") if "oracle" in r else None, "chi2": b["holdout_chi2_ratio"], "seconds": r.get("timings", {}).get("total_s", 0.0),
+               # "Oracle"): under the likelihood-ratio threshold, the data
+               # cannot show the effect to any search (absent: older runs).
+               "oracle_train_dchi2": r["oracle"].get("train_delta_chi2") if "oracle" in r else None,
+               "chi2": b["holdout_chi2_ratio"], "seconds": r.get("timings", {}).get("total_s", 0.0),
                "significant": [e["name"] for e in r["effects"] if e["significant"]],
                "also": r.get("also"), "replaced": r.get("replaced", "")}
         if len(c["truth"]) == 2:

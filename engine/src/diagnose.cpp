@@ -1264,7 +1264,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // The oracle's held-out error (DiagnoseOptions::oracle), summed over folds.
   double oracle_sse_ho = 0;
   std::vector<double> oracle_fold_rmse, oracle_fold_base_rmse, oracle_fold_train_dchi2;
-  double oracle_train_dsse = 0;
   // Every fold's fits, kept for the second round (given the verdict's effect).
   std::vector<std::vector<int>> fold_train(K), fold_test(K);
   std::vector<std::vector<FitOutcome>> fold_trs(K), fold_hos(K);
@@ -1423,7 +1422,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       // that fitted them exactly would have (where it is under the
       // likelihood-ratio threshold, no search can name the effect on these
       // flights, whatever the held-out oracle closes).
-      oracle_train_dsse += base_tr.sse - otr.sse;
       oracle_fold_train_dchi2.push_back((base_tr.sse - otr.sse) / s2_noise);
       report("fold", label + ": oracle (the baseline plus the known effects, centre values refitted): RMSE " +
                          cm(otr.rmse()) + " on training gliders, " + cm(oho.rmse()) + " on held-out gliders (baseline " +
@@ -1540,7 +1538,8 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     orc.fold_holdout_rmse_m = oracle_fold_rmse;
     orc.fold_baseline_holdout_rmse_m = oracle_fold_base_rmse;
     orc.fold_train_delta_chi2 = oracle_fold_train_dchi2;
-    orc.train_delta_chi2 = oracle_train_dsse / std::max(1, K - 1) / s2;  // each glider trains in K - 1 folds
+    orc.train_delta_chi2 = std::accumulate(oracle_fold_train_dchi2.begin(), oracle_fold_train_dchi2.end(), 0.0) /
+                           std::max(1, K - 1);  // each glider trains in K - 1 folds
     res.oracle = orc;
   }
   double sse0_fit = 0, dof_fit = 1;
