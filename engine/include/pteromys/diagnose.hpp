@@ -192,14 +192,18 @@ struct DiagnoseOptions {
   /// says `unexplained` (docs/diagnosis.md).
   bool heldout_steps = false;
   /// Theoretical-size starts (profiled fits only): every aerodynamic
-  /// correction is also started at strength 1 (its launches and trims
-  /// refitted, as its trial start) with the centre values refitted jointly
-  /// with its strength, kept when it fits the flights better. The step from
+  /// correction is also started at strength 1, reached as the oracle's
+  /// effects are (a quarter, a half, ... of it, the launches and trims
+  /// settled at each from the step before), its centre values refitted
+  /// there and then jointly with its strength, kept when it fits the flights
+  /// better (blind finite span at 1, seed 28: named, 29 % held-out shrink,
+  /// `unexplained` by default; the ramp of a far-off correction such as
+  /// downwash takes several minutes a fit). The step from
   /// strength 0 stays in the baseline's basin where the centre values absorb
   /// the effect to first order (blind pitch damping at 1, seed 28, fold 4:
   /// strength 0.00 at 1.4 cm on the training gliders, the oracle at 1 with
-  /// its centre values refitted 1.3 cm). Skipped where the launch-only fit
-  /// at strength 1 misfits four times the baseline's squared error (the
+  /// its centre values refitted 1.3 cm). Skipped where the fit reached at
+  /// strength 1 misfits four times the baseline's squared error (the
   /// joint fit from there crawls into a poorer basin: downwash, 31 cm).
   /// Only a start: the baseline is then refitted at the candidate's centre
   /// values (strength 0), and the tests decide as before.
