@@ -47,9 +47,9 @@ constexpr double kGiveUpFactor = 1.0;
 // baseline's 1.4 cm; pitch damping itself 1.9 cm at 1 before its refit in
 // the oracle's folds, 1.6 cm baseline).
 constexpr double kTheoryStartFactor = 4.0;
-// Steps in which a theoretical-size start switches its strength on (a
-// quarter, a half, ...), as the oracle's effects are.
-constexpr int kTheorySteps = 4;
+// Steps in which the oracle's effects and a theoretical-size start's
+// strength are switched on (a quarter, a half, ...).
+constexpr int kRampSteps = 4;
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
@@ -647,6 +647,15 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // model with it at full size: strength 0.33 after the step, 0.95
   // polished): a short joint refit of `p` with the centre values and `free`
   // follows, kept when better.
+  // `p` with its centre values and `trims` refitted at its effects (the
+  // oracle's, and a theoretical-size start's at strength 1), from its
+  // launches; the caller keeps it when better.
+  auto refit_centres = [&](const FitOutcome& p, const std::vector<int>& flights, const std::vector<FreeParam>& trims) {
+    std::vector<FreeParam> free = centre_values(p.model.coefficients);
+    free.insert(free.end(), trims.begin(), trims.end());
+    const auto w = launches_of(p);
+    return D.fit(p.model, flights, free, &w);
+  };
   auto joint_refit = [&](FitOutcome& p, const std::vector<int>& flights, const std::vector<FreeParam>& free) {
     auto joint = centre_values(p.model.coefficients);
     joint.insert(joint.end(), free.begin(), free.end());
@@ -726,15 +735,15 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         // the oracle, so reached, explained fold 3's training gliders by
         // delta chi2 187 over it).
         FitOutcome r = base;
-        for (int k = 1; k <= kTheorySteps; ++k) {
+        for (int k = 1; k <= kRampSteps; ++k) {
           DiagModel m = r.model;
           for (std::size_t i = 0; i < sp.parameters.size(); ++i)
-            m.effects.at(o.effects[e], static_cast<int>(i)) = static_cast<double>(k) / kTheorySteps;
+            m.effects.at(o.effects[e], static_cast<int>(i)) = static_cast<double>(k) / kRampSteps;
           const auto w = launches_of(r);
           r = settled(m, flights, trims, &w);
         }
         report("effect", label + ": " + effect_name(o.effects[e]) + " switched on to its theoretical size in " +
-                             std::to_string(kTheorySteps) + " steps, launches and trims refitted: RMSE " + cm(r.rmse()),
+                             std::to_string(kRampSteps) + " steps, launches and trims refitted: RMSE " + cm(r.rmse()),
                false);
         theory = std::move(r);
       }
@@ -773,10 +782,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
         FitOutcome& q = *theory;
         // The centre values refitted at full size (as the oracle's), then
         // with the strength free.
-        auto centres = centre_values(q.model.coefficients);
-        centres.insert(centres.end(), trims.begin(), trims.end());
-        const auto wq = launches_of(q);
-        FitOutcome c = D.fit(q.model, flights, centres, &wq);
+        FitOutcome c = refit_centres(q, flights, trims);
         if (c.sse < q.sse) q = std::move(c);
         joint_refit(q, flights, free);  // as the profiled steps' joint refit
         const bool kept = q.sse < out[e].sse;
@@ -1401,7 +1407,6 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       // training gliders). Then the centre values with them, as the
       // baseline's were fitted; the held-out gliders' launches and trims are
       // carried through the same steps under those centre values.
-      constexpr int kSteps = 4;
       auto scaled = [&](DiagModel m, double f) {
         for (const auto& [E, v] : o.oracle) {
           const auto& sp = effect_spec(E);
@@ -1413,25 +1418,22 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       };
       const auto trims = trims_of(D, train, o.trim);
       FitOutcome otr = base_tr;
-      for (int k = 1; k <= kSteps; ++k) {
-        const DiagModel m = scaled(otr.model, static_cast<double>(k) / kSteps);
+      for (int k = 1; k <= kRampSteps; ++k) {
+        const DiagModel m = scaled(otr.model, static_cast<double>(k) / kRampSteps);
         auto w = launches_of(otr);
         if (m.effects.launch_rotation_per_flight && !otr.model.effects.launch_rotation_per_flight)
           w = with_rate(w, m.effects.launch_rotation);
         otr = settled(m, train, trims, &w);
         // The oracle's fits can take many minutes on data far from the
         // model (blind downwash, seed 24: about 14 min a fold, silent before).
-        report("fold", label + ", the oracle: training gliders at " + std::to_string(k) + "/" + std::to_string(kSteps) +
+        report("fold", label + ", the oracle: training gliders at " + std::to_string(k) + "/" + std::to_string(kRampSteps) +
                            " of the known effects: RMSE " + cm(otr.rmse()) +
-                           (k == kSteps && centre_count(otr.model.coefficients) > 0 ? "; refitting the centre values"
+                           (k == kRampSteps && centre_count(otr.model.coefficients) > 0 ? "; refitting the centre values"
                                                                                     : ""),
                false);
       }
       if (centre_count(otr.model.coefficients) > 0) {
-        std::vector<FreeParam> free = centre_values(otr.model.coefficients);
-        free.insert(free.end(), trims.begin(), trims.end());
-        const auto w2 = launches_of(otr);
-        FitOutcome p = D.fit(otr.model, train, free, &w2);
+        FitOutcome p = refit_centres(otr, train, trims);
         const bool better = p.sse < otr.sse;
         report("fold", label + ", the oracle: centre values refitted: RMSE " + cm(p.rmse()) + " on training gliders" +
                            std::string(better ? " (kept)" : " (not kept)") + "; its held-out gliders follow",
@@ -1440,9 +1442,9 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
       }
       mean_rate(otr);
       FitOutcome oho = base_ho;
-      for (int k = 1; k <= kSteps; ++k) {
+      for (int k = 1; k <= kRampSteps; ++k) {
         FitOutcome at = otr;
-        at.model = scaled(otr.model, static_cast<double>(k) / kSteps);
+        at.model = scaled(otr.model, static_cast<double>(k) / kRampSteps);
         oho = ho_fit_on(at, oho, test, ho_trims, label + ", the oracle");
       }
       oracle_sse_ho += oho.sse;
