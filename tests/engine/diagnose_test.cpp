@@ -1272,7 +1272,8 @@ TEST(Diagnose, HeldOutLedStepsTakeOnlyCandidatesTheHeldOutGlidersConfirm) {
 // candidate refitted from its linearised step (profiled_candidates = 0) the
 // folds' pitch-damping fits keep the baseline's centre values, which took
 // part of the damping. Started at strength 1 (the correction's theoretical
-// size, which made these flights) with the centre values refitted, every
+// size, which made these flights, reached in quarter steps) with the
+// centre values refitted, every
 // fold's training fit finds the truth: fold strengths within 0.1 of 1 and
 // held-out gliders predicted to within twice the 2 mm noise. The progress
 // names the start in every fit (three folds and all gliders).
@@ -1286,6 +1287,8 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
   ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
   // all gliders and three folds (more when the baseline improves)
   EXPECT_GE(lines_with(lines, "pitch_damping from its theoretical size with the centre values"), 4);
+  // reached in quarter steps, as the oracle's effects are, in each of those fits
+  EXPECT_GE(lines_with(lines, "pitch_damping switched on to its theoretical size in 4 steps"), 4);
   for (const auto& l : lines) EXPECT_EQ(l.find("wind from its theoretical size"), std::string::npos) << l;  // a session effect
   bool seen = false;
   for (const auto& e : r.effects)
