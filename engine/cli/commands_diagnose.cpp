@@ -116,7 +116,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--profile", "--no-profile", "--no-glider-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
-                             "--step-per-flight", "--no-step-per-flight"});
+                             "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -151,6 +151,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
     throw InputError("--theory-starts and --no-theory-starts contradict each other");
   o.theory_starts = a.flag("--theory-starts");
+  if (a.flag("--escalate") && a.flag("--no-escalate"))
+    throw InputError("--escalate and --no-escalate contradict each other");
+  o.escalate = a.flag("--escalate") ? true : a.flag("--no-escalate") ? false : o.escalate;
   if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
     throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
   o.step_per_flight = a.flag("--step-per-flight");
@@ -307,6 +310,9 @@ const bool registered_diagnose = register_command(
          "                          size (strength 1, reached in quarter steps) with the centre\n"
          "                          values refitted with it (experimental: docs);\n"
          "                          --no-theory-starts: without (the default)\n"
+         "  --escalate              when the search leaves a real gap unexplained, search again\n"
+         "                          with theoretical-size starts (slower: docs);\n"
+         "                          --no-escalate: answer after the first search\n"
          "  --step-per-flight       profiled starts for launch_rotation per flight too: from its\n"
          "                          fit the centre values take their linearised step (docs);\n"
          "                          --no-step-per-flight: without (the default)\n"

@@ -1300,3 +1300,41 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
     }
   EXPECT_TRUE(seen);
 }
+
+// The second search (DiagnoseOptions::escalate): flights made with the
+// finite-span correction at strength 1; with no candidate refitted from its
+// linearised step and no steps carried into the folds, the first search
+// keeps finite span at strength 0 in every fit (the centre values absorb it
+// to first order) and leaves the gap unexplained. Searched again with the
+// correction also started at its theoretical size, finite span is named,
+// fitted near the strength that made the flights. The progress says so,
+// and the last report ("done") comes once, at the very end.
+TEST(Diagnose, AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes) {
+  EffectValues truth;
+  truth.finite_span = 1.0;
+  const Dataset d = corrected_flights(truth, 0.002, 5);
+  DiagnoseOptions o = profiled_diagnosis({Effect::FiniteSpan, Effect::Wind});
+  o.profiled_candidates = 0;
+  o.carry_steps = false;
+  o.escalate = true;
+  std::vector<DiagnoseProgress> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p); });
+  ASSERT_TRUE(r.escalation.ran) << r.verdict << ": " << r.summary;
+  EXPECT_EQ(r.escalation.first_verdict, "unexplained");
+  EXPECT_EQ(r.verdict, "finite_span") << r.summary;
+  ASSERT_FALSE(lines.empty());
+  int done = 0, second = 0;
+  for (const auto& p : lines) {
+    done += p.stage == "done" ? 1 : 0;
+    second += p.message.rfind("second search: ", 0) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(done, 1);
+  EXPECT_EQ(lines.back().stage, "done");
+  EXPECT_GE(second, 4);
+  EXPECT_NE(r.summary.find("theoretical sizes"), std::string::npos) << r.summary;
+  for (const auto& e : r.effects)
+    if (e.effect == Effect::FiniteSpan) {
+      std::cout << "finite span: shrink " << e.shrink << ", strength " << e.parameters.at(0) << std::endl;
+      EXPECT_NEAR(e.parameters.at(0), 1.0, 0.15);
+    }
+}

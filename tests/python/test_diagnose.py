@@ -443,6 +443,7 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--step-per-flight", "--no-step-per-flight"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--heldout-steps", "--no-heldout-steps"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--theory-starts", "--no-theory-starts"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--escalate", "--no-escalate"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "0"], "--step-alpha"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "1.5"], "--step-alpha"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "nan"], "--step-alpha"),

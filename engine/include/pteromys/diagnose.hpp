@@ -208,6 +208,13 @@ struct DiagnoseOptions {
   /// Only a start: the baseline is then refitted at the candidate's centre
   /// values (strength 0), and the tests decide as before.
   bool theory_starts = false;
+  /// A second search when the first leaves a real gap unexplained: the
+  /// diagnosis is made again with theoretical-size starts (theory_starts),
+  /// and that search's result is the answer (DiagnoseResult::escalation
+  /// says so). Costs several times the first search where it runs; data
+  /// the baseline fits to within the noise, and data a candidate explains
+  /// from strength 0, never pay it. Profiled fits only.
+  bool escalate = false;
   /// Profiled starts for a per-flight candidate (launch_rotation with
   /// launch_rotation_per_flight): it has no shared strength to step, so from
   /// its fit (every flight's own rate, the baseline's centre values) the
@@ -402,6 +409,13 @@ struct DiagnoseResult {
   std::string passed_over;
   double passed_over_t = 0, passed_over_t_critical = 0;
   std::optional<OracleResult> oracle;  ///< when DiagnoseOptions::oracle is given
+  /// The second search (DiagnoseOptions::escalate): whether it ran, and
+  /// the first search's verdict, best candidate and time.
+  struct Escalation {
+    bool ran = false;
+    std::string first_verdict, first_best;
+    double first_best_shrink = 0, first_seconds = 0;
+  } escalation;
   std::string summary;           ///< plain-language summary
   nlohmann::json where;          ///< where the gap lies (phases, gliders, features, states, whiteness)
   nlohmann::json report;         ///< data of the report's plots (worst flights before/after, per glider)
