@@ -1338,3 +1338,24 @@ TEST(Diagnose, AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes) {
       EXPECT_NEAR(e.parameters.at(0), 1.0, 0.15);
     }
 }
+
+// A theoretical-size start far from the flights ends its ramp early: on
+// flights of the baseline model (no correction, 2 mm noise) pitch damping
+// switched on misfits more than four times the baseline's squared error
+// before strength 1, so the ramp stops there and no centre-value refit
+// starts from it; the verdict stays `none`.
+TEST(Diagnose, ATheoreticalSizeStartFarFromTheFlightsEndsItsRampEarly) {
+  const Dataset d = corrected_flights(EffectValues{}, 0.002, 5);
+  DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping, Effect::Wind});
+  o.theory_starts = true;
+  std::vector<std::string> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+  EXPECT_EQ(r.verdict, "none") << r.summary;
+  EXPECT_GE(lines_with(lines, "pitch_damping switched on: at "), 4);
+  for (const auto& l : lines) {
+    if (l.find("pitch_damping switched on: at ") == std::string::npos) continue;
+    EXPECT_NE(l.find("of its theoretical size already RMSE"), std::string::npos) << l;
+    EXPECT_EQ(l.find("at 4/4"), std::string::npos) << l;  // ended before full size
+  }
+  EXPECT_EQ(lines_with(lines, "pitch_damping from its theoretical size with the centre values"), 0);
+}

@@ -305,6 +305,9 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
     assert camera_case[1]["options"]["heldout_steps"] is False  # experimental, off by default
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
+    # the second search is off by default and did not run (the verdict is the camera)
+    assert camera_case[1]["options"]["escalate"] is False
+    assert camera_case[1]["escalation"] == {"ran": False}
     # the folds' screen steps every candidate with a gain by default
     assert camera_case[1]["options"]["step_alpha"] == 1.0
     assert camera_case[1]["options"]["glider_guard"] is True
