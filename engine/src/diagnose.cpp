@@ -2362,6 +2362,10 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     };
   DiagnoseResult res = diagnose_once(d, o, first);
   if (!may_escalate || res.verdict != "unexplained") {
+    if (!o.escalate && !o.theory_starts && o.profile && res.verdict == "unexplained")
+      res.summary += " A second search with every aerodynamic correction also started at its theoretical size "
+                     "(--escalate; Python escalate=True) can still find an effect the step from strength 0 "
+                     "misses; it takes several times as long.";
     if (held) progress(*held);
     return res;
   }

@@ -1308,7 +1308,8 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
 // to first order) and leaves the gap unexplained. Searched again with the
 // correction also started at its theoretical size, finite span is named,
 // fitted near the strength that made the flights. The progress says so,
-// and the last report ("done") comes once, at the very end.
+// and the last report ("done") comes once, at the very end. Without the
+// second search the summary points to it.
 TEST(Diagnose, AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes) {
   EffectValues truth;
   truth.finite_span = 1.0;
@@ -1316,6 +1317,14 @@ TEST(Diagnose, AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes) {
   DiagnoseOptions o = profiled_diagnosis({Effect::FiniteSpan, Effect::Wind});
   o.profiled_candidates = 0;
   o.carry_steps = false;
+  {
+    // without the second search: the gap stays unexplained, and the
+    // summary says what could still find it
+    const DiagnoseResult r1 = diagnose(d, o, {});
+    EXPECT_EQ(r1.verdict, "unexplained") << r1.summary;
+    EXPECT_FALSE(r1.escalation.ran);
+    EXPECT_NE(r1.summary.find("--escalate"), std::string::npos) << r1.summary;
+  }
   o.escalate = true;
   std::vector<DiagnoseProgress> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p); });
