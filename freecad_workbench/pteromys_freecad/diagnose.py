@@ -67,6 +67,27 @@ def run_diagnosis(dataset, report_dir=None, progress=None, **options):
     return result, os.path.join(report_dir, "index.html")
 
 
+def second_search_options(result):
+    """Options for a second search, or None: when ``result`` (a diagnosis
+    that did not already search twice) leaves a real gap unexplained, the
+    diagnosis can be made again with every aerodynamic correction also
+    started at its theoretical size (``theory_starts``; the engine's
+    ``escalate`` does the same after its first search; docs/diagnosis.md,
+    "Second search"). Only with profiled starts, which those starts need."""
+    opts = result.get("options", {})
+    if result.get("verdict") != "unexplained" or result.get("escalation", {}).get("ran"):
+        return None
+    if opts.get("theory_starts") or not opts.get("profile", True):
+        return None
+    return {"theory_starts": True}
+
+
+SECOND_SEARCH_QUESTION = (
+    "No candidate effect closes the gap between the model and the flights.\n\n"
+    "Search again with every aerodynamic correction also started at its theoretical size? "
+    "It can find an effect the first search misses, but takes several times as long.")
+
+
 def summary_text(result):
     """A few lines for a message box: verdict, summary and the best effects."""
     lines = ["Verdict: %s" % result["verdict"], "", result.get("summary", ""), ""]

@@ -24,8 +24,18 @@ class DiagnoseFlights:
         import FreeCADGui as Gui
         path, _ = QtWidgets.QFileDialog.getOpenFileName(Gui.getMainWindow(), "Flight dataset", os.path.expanduser("~"),
                                                         "Flight dataset (*.json)")
-        if path:
-            run_with_progress(path)
+        if not path:
+            return
+        from . import diagnose as pd
+        result = run_with_progress(path)
+        # A real gap the first search leaves unexplained: offer the second
+        # search (docs/diagnosis.md, "Second search").
+        again = None if result is None else pd.second_search_options(result)
+        if again is not None and QtWidgets.QMessageBox.question(
+                Gui.getMainWindow(), "Pteromys: diagnose flights", pd.SECOND_SEARCH_QUESTION,
+                QtWidgets.QMessageBox.Yes | QtWidgets.QMessageBox.No,
+                QtWidgets.QMessageBox.No) == QtWidgets.QMessageBox.Yes:
+            run_with_progress(path, **again)
 
 
 def run_with_progress(dataset, report_dir=None, **options):

@@ -37,6 +37,12 @@ RESULT["steps"] = steps
 RESULT["text"] = pd.summary_text(result)
 RESULT["default_dir"] = pd.default_report_dir(%r)
 RESULT["has_command"] = hasattr(gui, "DiagnoseFlights") and hasattr(gui, "run_with_progress")
+RESULT["again"] = pd.second_search_options(result)
+unexplained = dict(result, verdict="unexplained", escalation={"ran": False})
+RESULT["again_unexplained"] = pd.second_search_options(unexplained)
+RESULT["again_escalated"] = pd.second_search_options(dict(unexplained, escalation={"ran": True}))
+RESULT["again_theory"] = pd.second_search_options(dict(unexplained, options=dict(result["options"], theory_starts=True)))
+RESULT["again_fixed"] = pd.second_search_options(dict(unexplained, options=dict(result["options"], profile=False)))
 ''' % (str(ds), str(ds)), timeout=600)
     assert res["index"] == str(report / "index.html")
     assert res["default_dir"] == str(report)
@@ -46,6 +52,13 @@ RESULT["has_command"] = hasattr(gui, "DiagnoseFlights") and hasattr(gui, "run_wi
     assert res["verdict"] in ("wind", "camera", "none", "unexplained")
     assert res["text"].startswith("Verdict: ")
     assert res["has_command"]
+    # the second search is offered after an unexplained gap only, once, and
+    # only where its theoretical-size starts can run (profiled starts)
+    assert res["again"] == ({"theory_starts": True} if res["verdict"] == "unexplained" else None)
+    assert res["again_unexplained"] == {"theory_starts": True}
+    assert res["again_escalated"] is None
+    assert res["again_theory"] is None
+    assert res["again_fixed"] is None
     steps = res["steps"]
     assert len(steps) > 5 and steps[-1][2] == "done" and steps[-1][0] == steps[-1][1]
     assert not [p for p in os.listdir(report.parent) if p.startswith(".diagnosis-")]
