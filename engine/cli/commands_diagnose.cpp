@@ -153,7 +153,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.theory_starts = a.flag("--theory-starts");
   if (a.flag("--escalate") && a.flag("--no-escalate"))
     throw InputError("--escalate and --no-escalate contradict each other");
-  o.escalate = a.flag("--escalate") ? true : a.flag("--no-escalate") ? false : o.escalate;
+  o.escalate = a.flag("--escalate");
   if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
     throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
   o.step_per_flight = a.flag("--step-per-flight");

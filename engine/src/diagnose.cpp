@@ -2349,7 +2349,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
 
 DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const DiagnoseCallback& progress) {
   const auto t0 = Clock::now();
-  const bool may_escalate = o.escalate && !o.theory_starts && o.profile;
+  // The second search needs profiled starts and is one with theory_starts.
+  const bool can_escalate = !o.theory_starts && o.profile;
+  const bool may_escalate = o.escalate && can_escalate;
   // The first search's last report ("done") is held back until it is known
   // whether a second search follows, so that a progress dialog does not
   // close between the two.
@@ -2362,7 +2364,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     };
   DiagnoseResult res = diagnose_once(d, o, first);
   if (!may_escalate || res.verdict != "unexplained") {
-    if (!o.escalate && !o.theory_starts && o.profile && res.verdict == "unexplained")
+    if (!o.escalate && can_escalate && res.verdict == "unexplained")
       res.summary += " A second search with every aerodynamic correction also started at its theoretical size "
                      "(--escalate; Python escalate=True) can still find an effect the step from strength 0 "
                      "misses; it takes several times as long.";
@@ -2377,14 +2379,14 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // again with every aerodynamic correction also started at its
   // theoretical size; slower, which is why only here.
   const double first_s = res.seconds;
+  const std::string first_best = res.effects.empty() ? "" : res.effects.front().name;
   if (progress) {
     DiagnoseProgress p;
     p.stage = "analysis";
     p.step = held ? held->step : 0;
     p.steps = held ? held->steps : 0;
     p.elapsed_s = since(t0);
-    p.message = "no candidate closes the gap from strength 0 (best: " +
-                (res.effects.empty() ? std::string("none") : res.effects.front().name) +
+    p.message = "no candidate closes the gap from strength 0 (best: " + (first_best.empty() ? "none" : first_best) +
                 "): searching again with every aerodynamic correction also started at its theoretical size "
                 "(slower)";
     progress(p);
@@ -2403,7 +2405,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   res2.escalation.ran = true;
   res2.escalation.first_verdict = res.verdict;
   res2.escalation.first_seconds = first_s;
-  res2.escalation.first_best = res.effects.empty() ? "" : res.effects.front().name;
+  res2.escalation.first_best = first_best;
   res2.escalation.first_best_shrink = res.effects.empty() ? 0.0 : res.effects.front().shrink;
   if (res2.verdict != "unexplained")
     res2.summary = "Searched from the baseline, no candidate closed the gap; started at their theoretical sizes, " +
