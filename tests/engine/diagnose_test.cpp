@@ -1299,6 +1299,36 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
       EXPECT_LT(e.holdout_rmse_m, 2 * 0.002);
     }
   EXPECT_TRUE(seen);
+  // freed, the strength did not fit the training flights significantly
+  // better than the theoretical size that made them
+  EXPECT_GE(lines_with(lines, "pitch_damping freed from its theoretical size"), 4);
+  EXPECT_GE(lines_with(lines, ": held at its theoretical size"), 1);
+}
+
+// A theoretical-size start is held at strength 1 only while the training
+// flights do not reject it: on flights made with pitch damping at twice
+// its theoretical size (2 mm noise), the strength freed from 1 fits them
+// better by far more than the chi-square quantile, so the fits keep the
+// freed strength, near the 2 that made the flights, in every fold.
+TEST(Diagnose, ATheoreticalSizeTheFlightsRejectIsFreed) {
+  EffectValues truth;
+  truth.pitch_damping = 2.0;
+  const Dataset d = corrected_flights(truth, 0.002, 5);
+  DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping, Effect::Wind});
+  o.profiled_candidates = 0;
+  o.carry_steps = false;
+  o.theory_starts = true;
+  std::vector<std::string> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+  EXPECT_GE(lines_with(lines, "pitch_damping freed from its theoretical size"), 4);
+  EXPECT_GE(lines_with(lines, ": the theoretical size is rejected"), 4);
+  ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
+  for (const auto& e : r.effects)
+    if (e.effect == Effect::PitchDamping) {
+      std::cout << "pitch damping: strength " << e.parameters.at(0) << std::endl;
+      EXPECT_NEAR(e.parameters.at(0), 2.0, 0.3);
+      for (const auto& f : e.fold_parameters) EXPECT_NEAR(f.at(0), 2.0, 0.3);
+    }
 }
 
 // The second search (DiagnoseOptions::escalate): flights made with the
