@@ -26,16 +26,36 @@ class DiagnoseFlights:
                                                         "Flight dataset (*.json)")
         if not path:
             return
-        from . import diagnose as pd
-        result = run_with_progress(path)
-        # A real gap the first search leaves unexplained: offer the second
-        # search (docs/diagnosis.md, "Second search").
-        again = None if result is None else pd.second_search_options(result)
-        if again is not None and QtWidgets.QMessageBox.question(
-                Gui.getMainWindow(), "Pteromys: diagnose flights", pd.SECOND_SEARCH_QUESTION,
-                QtWidgets.QMessageBox.Yes | QtWidgets.QMessageBox.No,
-                QtWidgets.QMessageBox.No) == QtWidgets.QMessageBox.Yes:
-            run_with_progress(path, **again)
+        diagnose_dataset(path)
+
+
+def diagnose_dataset(dataset, report_dir=None, **options):
+    """Diagnose ``dataset`` with progress and open the report; after an
+    unexplained gap, offer the second search (docs/diagnosis.md, "Second
+    search") and, on Yes, run it and open its report. Returns the last result
+    (None when the diagnosis failed or was cancelled)."""
+    result = run_with_progress(dataset, report_dir, **options)
+    again = ask_second_search(result)
+    if again is None:
+        return result
+    second = run_with_progress(dataset, report_dir, **dict(options, **again))
+    return second if second is not None else result
+
+
+def ask_second_search(result):
+    """After a real gap the first search left unexplained, ask whether to
+    search again from the corrections' theoretical sizes: the options for
+    that search on Yes, None on No or when there is nothing to ask."""
+    from PySide2 import QtWidgets
+    import FreeCADGui as Gui
+    from . import diagnose as pd
+    again = None if result is None else pd.second_search_options(result)
+    if again is None:
+        return None
+    answer = QtWidgets.QMessageBox.question(
+        Gui.getMainWindow(), "Pteromys: diagnose flights", pd.SECOND_SEARCH_QUESTION,
+        QtWidgets.QMessageBox.Yes | QtWidgets.QMessageBox.No, QtWidgets.QMessageBox.No)
+    return again if answer == QtWidgets.QMessageBox.Yes else None
 
 
 def run_with_progress(dataset, report_dir=None, **options):
