@@ -828,6 +828,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
                                                         : ": held at its theoretical size"),
                false);
         if (rejected) q = std::move(freed);
+        else q.strength_held = true;
         const bool kept = q.sse < out[e].sse;
         report("effect", label + ": " + effect_name(o.effects[e]) + " from its theoretical size with the centre values (" +
                              describe_parameters(o.effects[e], effect_values(q.model.effects, o.effects[e])) +
@@ -1337,6 +1338,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // ------------------------------------------------------------ folds
   res.heldout.resize(d.flights.size());
   std::vector<std::vector<std::vector<double>>> fold_params(ne);
+  std::vector<std::vector<bool>> fold_held(ne);
   std::vector<double> train_dsse(ne, 0.0);  // summed over folds (for the LR test without a full fit)
   double train_sse0 = 0;
   int train_dof0 = 0;
@@ -1559,6 +1561,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       const FitOutcome& tr = trs[e];
       const FitOutcome& ho = hos[e];
       fold_params[e].push_back(effect_values(tr.model.effects, E));
+      fold_held[e].push_back(tr.strength_held);
       train_dsse[e] += base_tr.sse - tr.sse;
       for (std::size_t i = 0; i < test.size(); ++i) res.heldout[test[i]].effects[e] = ho.flights[i];
       report("effect", label + ": " + effect_name(E) + " (" + describe_parameters(E, fold_params[e].back()) +
@@ -1667,10 +1670,12 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     r.holdout_rmse_m = std::sqrt(sse_ho[e] / n_ho);
     r.shrink = 1 - r.holdout_rmse_m / res.holdout_rmse_m;
     r.fold_parameters = fold_params[e];
+    r.fold_strength_held = fold_held[e];
     double dsse = 0, sse_e = 0;
     if (o.full_fit) {
       r.fit_rmse_m = eff_full[e].rmse();
       r.parameters = effect_values(eff_full[e].model.effects, E);
+      r.strength_held = eff_full[e].strength_held;
       dsse = base_full.sse - eff_full[e].sse;
       sse_e = eff_full[e].sse;
     } else {
@@ -1740,6 +1745,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       eff_full[e] = std::move(n);
       r.fit_rmse_m = eff_full[e].rmse();
       r.parameters = after;
+      r.strength_held = eff_full[e].strength_held;
       set_likelihood_ratio(r, E, base_full.sse - eff_full[e].sse, eff_full[e].sse);
     }
     return better;
@@ -2185,6 +2191,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     else if (r.shrink < o.min_shrink)
       n = "fits the training gliders better but barely carries over to held-out gliders (shrink " + pct(r.shrink) + ")";
     else n = "held-out improvement within what fitting its strength to noise gives";
+    if (r.strength_held)
+      n += "; strength held at its theoretical size (freed, it fitted the training gliders no significantly better)";
     if (r.indistinguishable)
       n += "; " + pct(r.coefficient_collinearity) + " of its signature is a change of the coefficients or trims: it cannot "
            "be told apart from re-tuned coefficients";
@@ -2479,6 +2487,8 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                             {"fit_rmse_m", e.fit_rmse_m},
                             {"parameters", par},
                             {"fold_parameters", fold},
+                            {"strength_held", e.strength_held},
+                            {"fold_strength_held", e.fold_strength_held},
                             {"likelihood_ratio", {{"delta_chi2", e.delta_chi2},
                                                   {"p_value", e.p_value},
                                                   {"holm_level", e.holm_level},

@@ -1303,6 +1303,14 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
   // better than the theoretical size that made them
   EXPECT_GE(lines_with(lines, "pitch_damping freed from its theoretical size"), 4);
   EXPECT_GE(lines_with(lines, ": held at its theoretical size"), 1);
+  // a held strength is exactly the theoretical size, and the result says so
+  for (const auto& e : r.effects) {
+    ASSERT_EQ(e.fold_strength_held.size(), e.fold_parameters.size());
+    for (std::size_t k = 0; k < e.fold_parameters.size(); ++k)
+      if (e.fold_strength_held[k]) EXPECT_EQ(e.fold_parameters[k].at(0), 1.0) << e.name << " fold " << k;
+    if (e.strength_held) EXPECT_EQ(e.parameters.at(0), 1.0) << e.name;
+    EXPECT_EQ(e.strength_held, e.note.find("held at its theoretical size") != std::string::npos) << e.note;
+  }
 }
 
 // A theoretical-size start is held at strength 1 only while the training
@@ -1326,6 +1334,7 @@ TEST(Diagnose, ATheoreticalSizeTheFlightsRejectIsFreed) {
   for (const auto& e : r.effects)
     if (e.effect == Effect::PitchDamping) {
       std::cout << "pitch damping: strength " << e.parameters.at(0) << std::endl;
+      EXPECT_FALSE(e.strength_held);
       EXPECT_NEAR(e.parameters.at(0), 2.0, 0.3);
       for (const auto& f : e.fold_parameters) EXPECT_NEAR(f.at(0), 2.0, 0.3);
     }

@@ -231,6 +231,24 @@ def test_report_names_an_effect_the_identifiability_preference_passed_over(tmp_p
     assert "Passed over: camera" in open(page).read()
 
 
+def test_every_effect_says_whether_its_strength_was_held_and_the_report_shows_it(tmp_path, camera_case):
+    """`strength_held` (a theoretical-size start kept at 1) is in every effect,
+    false without theoretical-size starts; a held strength is marked on the page."""
+    import copy
+    import pteromys
+    j = copy.deepcopy(camera_case[1])
+    for e in j["effects"]:
+        assert e["strength_held"] is False, e["name"]
+        assert e["fold_strength_held"] == [False] * len(e["fold_parameters"]), e["name"]
+    pd = next(e for e in j["effects"] if e["name"] == "pitch_damping")
+    pd["strength_held"] = True
+    pteromys.diagnosis_report(j, tmp_path / "rep")
+    md = (tmp_path / "rep" / "report.md").read_text()
+    row = next(l for l in md.splitlines() if l.startswith("| pitch_damping"))
+    assert "(held at its theoretical size)" in row
+    assert "(held at its theoretical size)" not in next(l for l in md.splitlines() if l.startswith("| camera"))
+
+
 def test_where_the_gap_lies_covers_phases_gliders_features_states_whiteness(camera_case):
     _, j, _, _ = camera_case
     w = j["where"]

@@ -302,6 +302,12 @@ struct EffectResult {
   double fit_rmse_m = 0;        ///< fitted to all gliders [m]
   std::vector<double> parameters;               ///< fitted to all gliders (internal units, effect_spec order)
   std::vector<std::vector<double>> fold_parameters;  ///< per fold (training gliders)
+  /// `parameters` (`fold_strength_held`: a fold's) held at the theoretical
+  /// size, 1, rather than fitted: a theoretical-size start whose strength,
+  /// freed, did not fit the training flights significantly better
+  /// (DiagnoseOptions::theory_starts)
+  bool strength_held = false;
+  std::vector<bool> fold_strength_held;
   // Likelihood-ratio test on all gliders (partial F-type: sigma_eff^2 = max(sigma^2, SSE_e / dof_e)).
   double delta_chi2 = 0;
   double p_value = 1;

@@ -79,6 +79,9 @@ struct FitOutcome {
   int free_parameters = 0;
   int iterations = 0;
   long simulations = 0;
+  /// (diagnosis) a theoretical-size start whose strength the training
+  /// flights did not reject, so kept at exactly 1 rather than fitted
+  bool strength_held = false;
   double rmse() const { return points ? std::sqrt(sse / points) : 0.0; }
 };
 

@@ -153,6 +153,8 @@ def _tables(r):
     eff_rows = []
     for e in r.get("effects", []):
         par = ", ".join("%s %.3g" % (k, v) for k, v in e.get("parameters", {}).items())
+        if e.get("strength_held"):
+            par += " (held at its theoretical size)"
         g = e.get("given_verdict")
         given = ("%s further%s" % (_pct(g["shrink"]), ", significant" if g["significant"] else "")) if g else ""
         cv = e.get("cross_validation", {})
