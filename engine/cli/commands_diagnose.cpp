@@ -115,7 +115,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
-                             "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
+                             "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts", "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
@@ -151,6 +151,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
     throw InputError("--theory-starts and --no-theory-starts contradict each other");
   o.theory_starts = a.flag("--theory-starts");
+  if (a.flag("--hold-theory") && a.flag("--no-hold-theory"))
+    throw InputError("--hold-theory and --no-hold-theory contradict each other");
+  o.hold_theory = a.flag("--hold-theory");
   if (a.flag("--escalate") && a.flag("--no-escalate"))
     throw InputError("--escalate and --no-escalate contradict each other");
   o.escalate = a.flag("--escalate");
@@ -310,6 +313,9 @@ const bool registered_diagnose = register_command(
          "                          size (strength 1, reached in quarter steps) with the centre\n"
          "                          values refitted with it (experimental: docs);\n"
          "                          --no-theory-starts: without (the default)\n"
+         "  --hold-theory           with theoretical-size starts, keep the strength at 1 unless\n"
+         "                          the training flights reject it (experimental: docs);\n"
+         "                          --no-hold-theory: free it (the default)\n"
          "  --escalate              when the search leaves a real gap unexplained, search again\n"
          "                          with theoretical-size starts (slower: docs);\n"
          "                          --no-escalate: answer after the first search\n"

@@ -822,21 +822,24 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         // pass; the held fits then lost to the step-started ones).
         FitOutcome freed = q;
         joint_refit(freed, flights, free);
-        {
-          FitOutcome h = refit_centres(q, flights, trims);
-          if (h.sse < q.sse) q = std::move(h);
+        bool rejected = true;
+        if (o.hold_theory) {
+          {
+            FitOutcome h = refit_centres(q, flights, trims);
+            if (h.sse < q.sse) q = std::move(h);
+          }
+          const double s2_fit = std::max(
+              s2_noise, freed.sse / std::max(1, freed.points - freed.launch_parameters - freed.free_parameters));
+          const double dchi2 = std::max(0.0, q.sse - freed.sse) / s2_fit;
+          const double needed = chi2_isf(o.alpha, static_cast<double>(sp.parameters.size()));
+          rejected = dchi2 > needed;
+          report("effect", label + ": " + effect_name(o.effects[e]) + " freed from its theoretical size (" +
+                               describe_parameters(o.effects[e], effect_values(freed.model.effects, o.effects[e])) +
+                               "): RMSE " + cm(freed.rmse()) + ", delta chi2 " + fmt(dchi2, 3) + " against " +
+                               fmt(needed, 3) + (rejected ? ": the theoretical size is rejected"
+                                                          : ": held at its theoretical size"),
+                 false);
         }
-        const double s2_fit = std::max(
-            s2_noise, freed.sse / std::max(1, freed.points - freed.launch_parameters - freed.free_parameters));
-        const double dchi2 = std::max(0.0, q.sse - freed.sse) / s2_fit;
-        const double needed = chi2_isf(o.alpha, static_cast<double>(sp.parameters.size()));
-        const bool rejected = dchi2 > needed;
-        report("effect", label + ": " + effect_name(o.effects[e]) + " freed from its theoretical size (" +
-                             describe_parameters(o.effects[e], effect_values(freed.model.effects, o.effects[e])) +
-                             "): RMSE " + cm(freed.rmse()) + ", delta chi2 " + fmt(dchi2, 3) + " against " +
-                             fmt(needed, 3) + (rejected ? ": the theoretical size is rejected"
-                                                        : ": held at its theoretical size"),
-               false);
         if (rejected) q = std::move(freed);
         else q.strength_held = true;
         const bool kept = q.sse < out[e].sse;
@@ -2607,6 +2610,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"carry_steps", o.carry_steps},
                   {"heldout_steps", o.heldout_steps},
                   {"theory_starts", o.theory_starts},
+                  {"hold_theory", o.hold_theory},
                   {"escalate", o.escalate},
                   {"step_per_flight", o.step_per_flight},
                   {"step_alpha", o.step_level()},

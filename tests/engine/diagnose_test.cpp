@@ -1282,6 +1282,7 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
   o.profiled_candidates = 0;
   o.carry_steps = false;
   o.theory_starts = true;
+  o.hold_theory = true;  // the held strength's marks, checked at the end
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
@@ -1313,7 +1314,7 @@ TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
   }
 }
 
-// A theoretical-size start is held at strength 1 only while the training
+// (DiagnoseOptions::hold_theory) A theoretical-size start is held at strength 1 only while the training
 // flights do not reject it: on flights made with pitch damping at twice
 // its theoretical size (2 mm noise), the strength freed from 1 fits them
 // better by far more than the chi-square quantile, so the fits keep the
@@ -1326,6 +1327,7 @@ TEST(Diagnose, ATheoreticalSizeTheFlightsRejectIsFreed) {
   o.profiled_candidates = 0;
   o.carry_steps = false;
   o.theory_starts = true;
+  o.hold_theory = true;
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   EXPECT_GE(lines_with(lines, "pitch_damping freed from its theoretical size"), 4);
