@@ -115,7 +115,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
-                             "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts", "--hold-theory", "--no-hold-theory",
+                             "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
+                             "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");

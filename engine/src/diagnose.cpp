@@ -800,34 +800,30 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       }
       if (theory) {
         FitOutcome& q = *theory;
-        // The centre values refitted at full size (as the oracle's), then
-        // with the strength free.
+        // The centre values refitted at full size (as the oracle's).
         FitOutcome c = refit_centres(q, flights, trims);
         if (c.sse < q.sse) q = std::move(c);
-        // The strength stays at its theoretical size unless the training
-        // flights reject it: freed (as the profiled steps' joint refit), it
-        // is kept only when it fits them better by more than the
-        // chi-square quantile of its parameters at the test's level (a
-        // likelihood-ratio test against the theoretical value). Freed
-        // without that test, the centre values re-tuned with it predict a
-        // held-out glider the theoretical size carries over to worse
-        // (blind pitch damping at 1, seed 28: strengths 0.69-0.92 in the
-        // folds, held-out shrink -7.1 % from one swept wing; the oracle,
-        // at exactly 1, 21.3 %).
-        // Both from the same fit and with one more pass each, the held
-        // strength's with the centre values and trims, the freed one's with
-        // its strength too: the test sees the strength, not the extra pass
-        // (blind finite span s28 compared with the first pass: freed to
-        // 0.981 by delta chi2 4.97 on all gliders, nearly all of it the
-        // pass; the held fits then lost to the step-started ones).
+        // Then with the strength free (as the profiled steps' joint refit).
+        // (DiagnoseOptions::hold_theory) Or held at its theoretical size
+        // unless the training flights reject it: freed, it is kept only when
+        // it fits them better by more than the chi-square quantile of its
+        // parameters at the test's level (a likelihood-ratio test against
+        // the theoretical value). Freed without that test, the centre values
+        // re-tuned with it predict a held-out glider the theoretical size
+        // carries over to worse (blind pitch damping at 1, seed 28:
+        // strengths 0.69-0.92 in the folds, held-out shrink -7.1 % from one
+        // swept wing; the oracle, at exactly 1, 21.3 %). Both from the same
+        // fit and with one more pass each, the held strength's with the
+        // centre values and trims, the freed one's with its strength too:
+        // the test sees the strength, not the extra pass (blind finite span
+        // s28 compared with the first pass: freed to 0.981 by delta chi2
+        // 4.97 on all gliders, nearly all of it the pass).
         FitOutcome freed = q;
         joint_refit(freed, flights, free);
         bool rejected = true;
         if (o.hold_theory) {
-          {
-            FitOutcome h = refit_centres(q, flights, trims);
-            if (h.sse < q.sse) q = std::move(h);
-          }
+          FitOutcome h = refit_centres(q, flights, trims);
+          if (h.sse < q.sse) q = std::move(h);
           const double s2_fit = std::max(
               s2_noise, freed.sse / std::max(1, freed.points - freed.launch_parameters - freed.free_parameters));
           const double dchi2 = std::max(0.0, q.sse - freed.sse) / s2_fit;

@@ -115,6 +115,29 @@ def fc_env(home, **extra):
     return env
 
 
+def run_gui(home, script, out, cwd, timeout=600):
+    """Run the GUI script `script` in ``freecad`` under Xvfb (the real X11
+    platform, a 1600x1000 screen); returns the dict it wrote to `out`.
+
+    A missing FreeCAD or xvfb-run, a script that wrote nothing, and an
+    ``error`` key in the result (the script's traceback) fail the test.
+    """
+    for exe in ("xvfb-run", "freecad"):
+        if not shutil.which(exe):
+            pytest.fail("%s is not installed (scripts/setup.sh installs freecad, xvfb and xauth)" % exe)
+    env = fc_env(home, QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
+    env.pop("QT_QPA_PLATFORM", None)       # the real X11 platform, on Xvfb
+    p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "freecad", str(script)],
+                       capture_output=True, text=True, timeout=timeout, env=env, cwd=str(cwd))
+    if not os.path.exists(out):
+        pytest.fail("FreeCAD GUI wrote no result (exit %s):\n%s\n%s" % (p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
+    with open(out) as f:
+        r = json.load(f)
+    if "error" in r:
+        pytest.fail("GUI script failed:\n" + r["error"])
+    return r
+
+
 def run_freecad(home, tmp_path, body, name="script", timeout=600, env=None):
     """Run `body` (indented into a try block) in freecadcmd; returns RESULT as a dict.
 

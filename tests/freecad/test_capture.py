@@ -10,13 +10,12 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 
 import numpy as np
 import pytest
 
-from conftest import ENGINE_PY, EXAMPLES, fc_env
+from conftest import ENGINE_PY, EXAMPLES, run_gui
 
 GLIDER = os.path.join(EXAMPLES, "training", "t04-tapered-mild.glider.json")
 
@@ -193,24 +192,13 @@ finally:
 
 
 def test_window_shows_the_track_and_a_click_fixes_a_frame(fc_home, scene, tmp_path):
-    for exe in ("xvfb-run", "freecad"):
-        if not shutil.which(exe):
-            pytest.fail("%s is not installed (scripts/setup.sh installs freecad, xvfb and xauth)" % exe)
     shots = tmp_path / "shots"
     shots.mkdir()
     out = tmp_path / "gui.json"
     script = tmp_path / "capture_gui.py"
     script.write_text(GUI_SCRIPT % {"out": str(out), "shots": str(shots), "video": scene["video"],
                                     "points": scene["points"], "glider": GLIDER})
-    env = fc_env(fc_home, QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
-    env.pop("QT_QPA_PLATFORM", None)
-    p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "freecad", str(script)],
-                       capture_output=True, text=True, timeout=600, env=env, cwd=str(tmp_path))
-    if not out.exists():
-        pytest.fail("FreeCAD GUI wrote no result (exit %s):\n%s\n%s" % (p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
-    r = json.loads(out.read_text())
-    if "error" in r:
-        pytest.fail("GUI script failed:\n" + r["error"])
+    r = run_gui(fc_home, script, out, tmp_path)
     assert r["command"] and r["window"] and r["tracked"]
     b, a = r["before"], r["after"]
     assert a["manual"] and not b["manual"]

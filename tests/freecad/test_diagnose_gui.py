@@ -7,14 +7,11 @@ after any other verdict it asks nothing.
 
 Set PTEROMYS_SCREENSHOTS=DIR to keep the question's screenshot.
 """
-import json
 import os
-import shutil
-import subprocess
 
 import pytest
 
-from conftest import fc_env
+from conftest import run_gui
 from test_diagnose import _dataset
 
 GUI_SCRIPT = r'''
@@ -110,9 +107,6 @@ finally:
 
 @pytest.fixture(scope="module")
 def gui(fc_home, tmp_path_factory):
-    for exe in ("xvfb-run", "freecad"):
-        if not shutil.which(exe):
-            pytest.fail("%s is not installed (scripts/setup.sh installs freecad, xvfb and xauth)" % exe)
     tmp = tmp_path_factory.mktemp("diagnose_gui")
     ds = _dataset(tmp)
     report = tmp / "report"
@@ -120,17 +114,9 @@ def gui(fc_home, tmp_path_factory):
     out = tmp / "gui.json"
     script = tmp / "diagnose_gui.py"
     script.write_text(GUI_SCRIPT % {"out": str(out), "ds": str(ds), "report": str(report), "shots": keep})
-    env = fc_env(fc_home, QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
-    env.pop("QT_QPA_PLATFORM", None)       # the real X11 platform, on Xvfb
     if keep:
         os.makedirs(keep, exist_ok=True)
-    p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "freecad", str(script)],
-                       capture_output=True, text=True, timeout=900, env=env, cwd=str(tmp))
-    if not out.exists():
-        pytest.fail("FreeCAD GUI wrote no result (exit %s):\n%s\n%s" % (p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
-    r = json.loads(out.read_text())
-    if "error" in r:
-        pytest.fail("GUI script failed:\n" + r["error"])
+    r = run_gui(fc_home, script, out, tmp, timeout=900)
     assert r.get("finished"), r
     return r
 

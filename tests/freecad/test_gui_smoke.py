@@ -5,15 +5,13 @@ screenshots are checked for content.
 
 Set PTEROMYS_SCREENSHOTS=DIR to also keep the screenshots (docs/img uses them).
 """
-import json
 import os
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import fc_env
+from conftest import run_gui
 
 GUI_SCRIPT = r'''
 import json, os, sys, traceback
@@ -173,24 +171,13 @@ def render_dxf(path, png):
 
 @pytest.fixture(scope="module")
 def gui(fc_home, tmp_path_factory):
-    for exe in ("xvfb-run", "freecad"):
-        if not shutil.which(exe):
-            pytest.fail("%s is not installed (scripts/setup.sh installs freecad, xvfb and xauth)" % exe)
     tmp = tmp_path_factory.mktemp("gui")
     shots = tmp / "shots"
     shots.mkdir()
     out = tmp / "gui.json"
     script = tmp / "gui_smoke.py"
     script.write_text(GUI_SCRIPT % {"out": str(out), "shots": str(shots)})
-    env = fc_env(fc_home, QTWEBENGINE_CHROMIUM_FLAGS="--no-sandbox")
-    env.pop("QT_QPA_PLATFORM", None)       # the real X11 platform, on Xvfb
-    p = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "freecad", str(script)],
-                       capture_output=True, text=True, timeout=600, env=env, cwd=str(tmp))
-    if not out.exists():
-        pytest.fail("FreeCAD GUI wrote no result (exit %s):\n%s\n%s" % (p.returncode, p.stdout[-3000:], p.stderr[-3000:]))
-    r = json.loads(out.read_text())
-    if "error" in r:
-        pytest.fail("GUI script failed:\n" + r["error"])
+    r = run_gui(fc_home, script, out, tmp)
     keep = os.environ.get("PTEROMYS_SCREENSHOTS")
     if keep:
         os.makedirs(keep, exist_ok=True)
