@@ -132,6 +132,15 @@ DiagnoseOptions profiled_diagnosis(std::vector<Effect> effects) {
   return o;
 }
 
+/// The same diagnosis with no candidate refitted from its linearised step
+/// and no steps carried into the folds: every fit of a candidate starts at
+/// strength 0 (or, with theory_starts, also at its theoretical size).
+DiagnoseOptions unstepped(DiagnoseOptions o) {
+  o.profiled_candidates = 0;
+  o.carry_steps = false;
+  return o;
+}
+
 /// How many progress lines contain `needle`.
 int lines_with(const std::vector<std::string>& lines, const std::string& needle) {
   return static_cast<int>(
@@ -163,6 +172,34 @@ TEST(DiagnoseStatistics, ChiSquareTailMatchesTables) {
   EXPECT_NEAR(chi2_sf(2.0, 2), std::exp(-1.0), 1e-12);  // k = 2: exp(-x/2)
   for (double k : {1.0, 2.0, 5.0, 40.0})
     for (double p : {0.5, 0.05, 1e-3, 1e-6}) EXPECT_NEAR(chi2_sf(chi2_isf(p, k), k), p, 1e-6 * p + 1e-12);
+}
+
+// The hold of a theoretical-size start (DiagnoseOptions::hold_theory) by
+// its definition: 1 mm^2 of variance a squared residual, one strength
+// parameter at the 1 % level (6.63, A & S table 26.8). Freed 1 mm^2 better
+// is delta chi2 1, held; 10 mm^2 better is 10, rejected. Not rejected but
+// beaten by the other start while the freed fit beats it: freed instead.
+// Beaten by the other start as the freed fit is too: held (neither wins).
+TEST(DiagnoseStatistics, ATheoreticalSizeIsHeldUnlessRejectedOrOutdone) {
+  const double s2 = 1e-6, needed = chi2_isf(0.01, 1);
+  EXPECT_NEAR(needed, 6.634896601021214, 1e-6);
+  TheoryHold t = theory_hold(1.001e-3, 1.000e-3, 1.2e-3, s2, needed);
+  EXPECT_NEAR(t.delta_chi2, 1.0, 1e-9);
+  EXPECT_TRUE(t.held());
+  t = theory_hold(1.010e-3, 1.000e-3, 1.2e-3, s2, needed);
+  EXPECT_NEAR(t.delta_chi2, 10.0, 1e-9);
+  EXPECT_TRUE(t.rejected);
+  EXPECT_FALSE(t.held());
+  t = theory_hold(1.003e-3, 1.000e-3, 1.002e-3, s2, needed);
+  EXPECT_FALSE(t.rejected);
+  EXPECT_TRUE(t.outdone);
+  EXPECT_FALSE(t.held());
+  t = theory_hold(1.003e-3, 1.000e-3, 0.9e-3, s2, needed);
+  EXPECT_FALSE(t.outdone);
+  EXPECT_TRUE(t.held());
+  // a freed fit that failed (NaN) never displaces the held one
+  t = theory_hold(1.003e-3, std::nan(""), 1.002e-3, s2, needed);
+  EXPECT_TRUE(t.held());
 }
 
 // Exact flights of the baseline: the fit with nothing free reproduces them
@@ -1278,9 +1315,8 @@ TEST(Diagnose, HeldOutLedStepsTakeOnlyCandidatesTheHeldOutGlidersConfirm) {
 // held-out gliders predicted to within twice the 2 mm noise. The progress
 // names the start in every fit (three folds and all gliders).
 TEST(Diagnose, TheoreticalSizeStartsRefitTheCentreValuesWithTheCorrection) {
-  auto [d, o] = profiled_pitch_damping_case();
-  o.profiled_candidates = 0;
-  o.carry_steps = false;
+  auto [d, p] = profiled_pitch_damping_case();
+  DiagnoseOptions o = unstepped(p);
   o.theory_starts = true;
   o.hold_theory = true;  // the held strength's marks, checked at the end
   std::vector<std::string> lines;
@@ -1323,9 +1359,7 @@ TEST(Diagnose, ATheoreticalSizeTheFlightsRejectIsFreed) {
   EffectValues truth;
   truth.pitch_damping = 2.0;
   const Dataset d = corrected_flights(truth, 0.002, 5);
-  DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping, Effect::Wind});
-  o.profiled_candidates = 0;
-  o.carry_steps = false;
+  DiagnoseOptions o = unstepped(profiled_diagnosis({Effect::PitchDamping, Effect::Wind}));
   o.theory_starts = true;
   o.hold_theory = true;
   std::vector<std::string> lines;
@@ -1355,9 +1389,7 @@ TEST(Diagnose, AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes) {
   EffectValues truth;
   truth.finite_span = 1.0;
   const Dataset d = corrected_flights(truth, 0.002, 5);
-  DiagnoseOptions o = profiled_diagnosis({Effect::FiniteSpan, Effect::Wind});
-  o.profiled_candidates = 0;
-  o.carry_steps = false;
+  DiagnoseOptions o = unstepped(profiled_diagnosis({Effect::FiniteSpan, Effect::Wind}));
   {
     // without the second search: the gap stays unexplained, and the
     // summary says what could still find it

@@ -538,6 +538,26 @@ nlohmann::json gap_analysis(const DiagnosisData& D, const std::vector<const Flig
                             const std::vector<const FlightOutcome*>& after, const DiagnoseOptions& o,
                             double sigma);
 
+/// (DiagnoseOptions::hold_theory) Whether a theoretical-size start keeps
+/// its strength held at exactly the theoretical size or freed. `held_sse`,
+/// `freed_sse`: the start's fits to the training flights with the strength
+/// held and freed; `other_sse`: the candidate's best fit from its other
+/// starts (strength 0, the linearised step); `s2`: the variance a squared
+/// residual carries (noise, or the freed fit's misfit per degree of freedom
+/// if larger); `needed`: the chi-square quantile of the strength's
+/// parameters at the test's level. Held unless the freed fit is better by
+/// more than `needed` (delta chi2 = (held - freed) / s2, a likelihood-ratio
+/// test against the theoretical value) or the held fit does not beat
+/// `other_sse` while the freed one does (the theoretical size then has no
+/// case of its own: another start explains the flights better).
+struct TheoryHold {
+  double delta_chi2 = 0;
+  bool rejected = false;  ///< by the likelihood-ratio test
+  bool outdone = false;   ///< not rejected, but beaten by the other start while the freed fit is not
+  bool held() const { return !rejected && !outdone; }
+};
+TheoryHold theory_hold(double held_sse, double freed_sse, double other_sse, double s2, double needed);
+
 /// Upper tail probability of the chi-square distribution with k degrees of
 /// freedom: P(X > x) (regularised incomplete gamma Q(k/2, x/2)).
 double chi2_sf(double x, double k);
