@@ -846,9 +846,10 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
           // (blind finite span s28, fold 4: held at 1 the fit lost to
           // strength 0; freed to 0.645 it had won, and the verdict with it)
           if (t.outdone)
-            report("effect", label + ": " + effect_name(o.effects[e]) + " held at its theoretical size: RMSE " +
-                                 cm(q.rmse()) + ", not better than " + cm(out[e].rmse()) +
-                                 " from the other start; freed instead",
+            report("effect", label + ": " + effect_name(o.effects[e]) +
+                                 " held at its theoretical size fits the training flights no better than from the "
+                                 "other start (delta chi2 " + fmt((q.sse - out[e].sse) / s2_fit, 3) +
+                                 " against it), freed it does: freed instead",
                    false);
         }
         if (!hold) q = std::move(freed);
