@@ -116,7 +116,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--profile", "--no-profile", "--no-glider-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
-                             "--hold-theory", "--no-hold-theory", "--follow-baseline", "--no-follow-baseline",
+                             "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
@@ -155,9 +155,6 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--hold-theory") && a.flag("--no-hold-theory"))
     throw InputError("--hold-theory and --no-hold-theory contradict each other");
   o.hold_theory = a.flag("--hold-theory");
-  if (a.flag("--follow-baseline") && a.flag("--no-follow-baseline"))
-    throw InputError("--follow-baseline and --no-follow-baseline contradict each other");
-  o.follow_baseline = a.flag("--follow-baseline");
   if (a.flag("--escalate") && a.flag("--no-escalate"))
     throw InputError("--escalate and --no-escalate contradict each other");
   o.escalate = a.flag("--escalate");
@@ -320,9 +317,6 @@ const bool registered_diagnose = register_command(
          "  --hold-theory           with theoretical-size starts, keep the strength at 1 unless\n"
          "                          the training flights reject it (experimental: docs);\n"
          "                          --no-hold-theory: free it (the default)\n"
-         "  --follow-baseline       candidates that beat a baseline refitted from the others'\n"
-         "                          fits are refitted from it too (experimental: docs);\n"
-         "                          --no-follow-baseline: not (the default)\n"
          "  --escalate              when the search leaves a real gap unexplained, search again\n"
          "                          with theoretical-size starts (slower: docs);\n"
          "                          --no-escalate: answer after the first search\n"

@@ -94,7 +94,6 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("heldout_steps")) o.heldout_steps = kw["heldout_steps"].cast<bool>();
   if (kw.contains("theory_starts")) o.theory_starts = kw["theory_starts"].cast<bool>();
   if (kw.contains("hold_theory")) o.hold_theory = kw["hold_theory"].cast<bool>();
-  if (kw.contains("follow_baseline")) o.follow_baseline = kw["follow_baseline"].cast<bool>();
   if (kw.contains("escalate")) o.escalate = kw["escalate"].cast<bool>();
   if (kw.contains("step_per_flight")) o.step_per_flight = kw["step_per_flight"].cast<bool>();
   if (kw.contains("profile")) o.profile = kw["profile"].cast<bool>();

@@ -1152,42 +1152,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     if (auto n = own_step(base, space, J, flights, space.trims, label)) base = std::move(*n);
     return starts;
   };
-  // (DiagnoseOptions::follow_baseline) The candidates not in `redo` (they
-  // beat the refitted baseline `base`) refitted from it: its launches,
-  // trims and centre values with each candidate's own strengths, then (with
-  // profiled starts) the centre values refitted with the strength held when
-  // the candidate's was, freed with them otherwise; kept when better.
-  auto follow = [&](const FitOutcome& base, std::vector<FitOutcome>& out, const std::vector<int>& redo,
-                    const std::vector<int>& flights, const std::string& label, bool profiled) {
-    const auto trims = trims_of(D, flights, o.trim);
-    const auto w = launches_of(base);
-    for (int e = 0; e < ne; ++e) {
-      const Effect E = o.effects[e];
-      if (per_flight(E) || std::find(redo.begin(), redo.end(), e) != redo.end()) continue;
-      DiagModel m = base.model;
-      const int np = static_cast<int>(effect_spec(E).parameters.size());
-      for (int i = 0; i < np; ++i) m.effects.at(E, i) = out[e].model.effects.at(E, i);
-      FitOutcome n = settled(m, flights, trims, &w);
-      if (profiled) {
-        if (out[e].strength_held) {
-          FitOutcome c = refit_centres(n, flights, trims);
-          if (c.sse < n.sse) n = std::move(c);
-        } else {
-          auto free = shared_params_of(E);
-          free.insert(free.end(), trims.begin(), trims.end());
-          joint_refit(n, flights, free);
-        }
-      }
-      n.strength_held = out[e].strength_held;
-      const bool better = n.sse < out[e].sse;
-      report("effect", label + ": " + effect_name(E) + " refitted from the refitted baseline (" +
-                           describe_parameters(E, effect_values(n.model.effects, E)) + "): RMSE " +
-                           fmt(100 * n.rmse(), 4) + " cm (was " + fmt(100 * out[e].rmse(), 4) + " cm" +
-                           (better ? "; kept)" : ")"),
-             false);
-      if (better) out[e] = std::move(n);
-    }
-  };
   auto fit_effects_from = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                               std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr) {
     if (stepped) stepped->assign(ne, false);
@@ -1249,7 +1213,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       const std::vector<FitOutcome> again = fit_effects(base, flights, label + " (again)", false, redo);
       for (int e : redo)
         if (again[e].sse < out[e].sse) out[e] = again[e];
-      if (o.follow_baseline) follow(base, out, redo, flights, label, profiled);
     }
     for (auto& x : out)
       if (x.sse > base.sse) x = base;  // strength 0
@@ -2660,7 +2623,6 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"heldout_steps", o.heldout_steps},
                   {"theory_starts", o.theory_starts},
                   {"hold_theory", o.hold_theory},
-                  {"follow_baseline", o.follow_baseline},
                   {"escalate", o.escalate},
                   {"step_per_flight", o.step_per_flight},
                   {"step_alpha", o.step_level()},

@@ -324,7 +324,6 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["heldout_steps"] is False  # experimental, off by default
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
     assert camera_case[1]["options"]["hold_theory"] is False  # experimental, off by default
-    assert camera_case[1]["options"]["follow_baseline"] is False  # experimental, off by default
     # the second search is off by default and did not run (the verdict is the camera)
     assert camera_case[1]["options"]["escalate"] is False
     assert camera_case[1]["escalation"] == {"ran": False}
@@ -467,7 +466,6 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--heldout-steps", "--no-heldout-steps"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--theory-starts", "--no-theory-starts"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--hold-theory", "--no-hold-theory"], "contradict"),
-    (["diagnose", "DS", "--json", "OUT", "--follow-baseline", "--no-follow-baseline"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--escalate", "--no-escalate"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "0"], "--step-alpha"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "1.5"], "--step-alpha"),

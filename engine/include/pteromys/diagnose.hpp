@@ -215,15 +215,6 @@ struct DiagnoseOptions {
   /// finite span at 1, seed 28, the held fits lost to strength 0 in one
   /// fold and the verdict, named with the freed strength, went unexplained.
   bool hold_theory = false;
-  /// When the baseline is refitted from the candidates' launches and
-  /// centre values, the candidates that still beat it are refitted from it
-  /// too, each with its own strengths (and, with profiled starts, its
-  /// centre values refitted): the baseline gains the better basin, the
-  /// candidates would otherwise not. Experimental, off (blind finite span
-  /// s28 under --hold-theory: the all-glider baseline gained delta chi2
-  /// about 8 from other candidates' centre values that the held candidate
-  /// never saw, and its likelihood ratio fell from 15.8 to 6.5).
-  bool follow_baseline = false;
   /// A second search when the first leaves a real gap unexplained: the
   /// diagnosis is made again with theoretical-size starts (theory_starts),
   /// and that search's result is the answer (DiagnoseResult::escalation
