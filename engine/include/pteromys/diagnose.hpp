@@ -210,10 +210,11 @@ struct DiagnoseOptions {
   bool theory_starts = false;
   /// (theory_starts) Hold a theoretical-size start's strength at 1 unless
   /// the training flights reject it (a likelihood ratio against the freed
-  /// strength, after one more pass each); off: the strength is freed as the
-  /// profiled steps' joint refit frees it. Experimental, off: on blind
-  /// finite span at 1, seed 28, the held fits lost to strength 0 in one
-  /// fold and the verdict, named with the freed strength, went unexplained.
+  /// strength, after one more pass each) or the held fit loses to the
+  /// candidate's other start while the freed one wins (theory_hold); off:
+  /// the strength is freed as the profiled steps' joint refit frees it.
+  /// Experimental, off: it names neither blind finite span nor pitch
+  /// damping at 1, seed 28 (docs/diagnosis.md, Held at the theoretical size).
   bool hold_theory = false;
   /// A second search when the first leaves a real gap unexplained: the
   /// diagnosis is made again with theoretical-size starts (theory_starts),
