@@ -38,46 +38,38 @@ def _plots(r, out):
     noise = r["baseline"].get("noise_rmse_m", 0.0)
     after_name = where.get("compared_with", "")
 
-    # 1. residuals by phase
-    ph = where.get("phases", [])
-    if ph:
-        fig, ax = plt.subplots(figsize=(6, 3.6))
-        names = [_PHASE_WORDS.get(p["phase"], p["phase"]) + "\n(%d points)" % p["points"] for p in ph]
-        x = np.arange(len(ph))
-        ax.bar(x - 0.2, [100 * p["rmse_m"] for p in ph], 0.4, label="baseline", color="#c44e52")
-        if all("rmse_after_m" in p for p in ph):
-            ax.bar(x + 0.2, [100 * p["rmse_after_m"] for p in ph], 0.4, label="with " + after_name, color="#4c72b0")
+    def paired_bars(rows, labels, figsize, title, name, **ticks):
+        """Held-out RMS error of each row: the baseline's, and beside it the
+        compared effect's where every row has one; the noise floor dashed."""
+        fig, ax = plt.subplots(figsize=figsize)
+        x = np.arange(len(rows))
+        ax.bar(x - 0.2, [100 * q["rmse_m"] for q in rows], 0.4, label="baseline", color="#c44e52")
+        if all("rmse_after_m" in q for q in rows):
+            ax.bar(x + 0.2, [100 * q["rmse_after_m"] for q in rows], 0.4, label="with " + after_name, color="#4c72b0")
         if noise:
             ax.axhline(100 * noise, color="k", ls="--", lw=1, label="tracking noise alone")
         ax.set_xticks(x)
-        ax.set_xticklabels(names)
+        ax.set_xticklabels(labels, **ticks)
         ax.set_ylabel("held-out RMS error [cm]")
-        ax.set_title("Residuals by flight phase (held-out gliders)")
+        ax.set_title(title)
         ax.legend(fontsize=8)
         fig.tight_layout()
-        fig.savefig(os.path.join(out, "phases.png"), dpi=110)
+        fig.savefig(os.path.join(out, name + ".png"), dpi=110)
         plt.close(fig)
-        files["phases"] = "phases.png"
+        files[name] = name + ".png"
+
+    # 1. residuals by phase
+    ph = where.get("phases", [])
+    if ph:
+        paired_bars(ph, [_PHASE_WORDS.get(p["phase"], p["phase"]) + "\n(%d points)" % p["points"] for p in ph],
+                    (6, 3.6), "Residuals by flight phase (held-out gliders)", "phases")
 
     # 2. residuals by glider
     gl = where.get("gliders", [])
     if gl:
-        fig, ax = plt.subplots(figsize=(max(6, 0.45 * len(gl) + 2), 3.8))
-        x = np.arange(len(gl))
-        ax.bar(x - 0.2, [100 * g["rmse_m"] for g in gl], 0.4, label="baseline", color="#c44e52")
-        if all("rmse_after_m" in g for g in gl):
-            ax.bar(x + 0.2, [100 * g["rmse_after_m"] for g in gl], 0.4, label="with " + after_name, color="#4c72b0")
-        if noise:
-            ax.axhline(100 * noise, color="k", ls="--", lw=1, label="tracking noise alone")
-        ax.set_xticks(x)
-        ax.set_xticklabels([g["glider"] for g in gl], rotation=60, ha="right", fontsize=7)
-        ax.set_ylabel("held-out RMS error [cm]")
-        ax.set_title("Residuals by glider (each predicted while held out)")
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(os.path.join(out, "gliders.png"), dpi=110)
-        plt.close(fig)
-        files["gliders"] = "gliders.png"
+        paired_bars(gl, [g["glider"] for g in gl], (max(6, 0.45 * len(gl) + 2), 3.8),
+                    "Residuals by glider (each predicted while held out)", "gliders",
+                    rotation=60, ha="right", fontsize=7)
 
     # 3. ranked effects
     eff = r.get("effects", [])
