@@ -17,8 +17,6 @@
 // Run: build/bench/bench_fit [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
-#include <dirent.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -26,6 +24,7 @@
 #include <vector>
 
 #include "pteromys/fit.hpp"
+#include "bench_common.hpp"
 #include "pteromys/io.hpp"
 #include "pteromys/mass.hpp"
 #include "pteromys/reference.hpp"
@@ -34,21 +33,7 @@ using namespace pteromys;
 
 namespace {
 
-std::vector<std::pair<std::string, Glider>> training() {
-  std::vector<std::string> names;
-  const std::string dir = std::string(PTEROMYS_SOURCE_DIR) + "/examples/training";
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") names.push_back(n);
-    }
-    closedir(d);
-  }
-  std::sort(names.begin(), names.end());
-  std::vector<std::pair<std::string, Glider>> out;
-  for (const auto& n : names) out.emplace_back(n.substr(0, n.size() - 12), load_glider(dir + "/" + n));
-  return out;
-}
+using bench::training_gliders;
 
 /// The experiment's training flights (as bench/fit/run_experiment.py makes them).
 const Dataset& experiment_dataset(double noise) {
@@ -62,7 +47,7 @@ const Dataset& experiment_dataset(double noise) {
   o.launcher.speed_max = 9.0;
   o.camera.noise_sigma_m = noise;
   o.threads = 2;
-  return cache[noise] = generate_dataset(training(), o);
+  return cache[noise] = generate_dataset(training_gliders(), o);
 }
 
 void report(benchmark::State& st, const FitResult& r, const char* name) {
@@ -151,7 +136,7 @@ void BM_SimulateTrack(benchmark::State& st) {
 }
 
 void BM_TablesForTenCentres(benchmark::State& st) {
-  const auto gl = training();
+  const auto gl = training_gliders();
   auto prior = std::make_shared<FlatPlateModel>();
   std::vector<RbfCentre> cs;
   for (int k = 0; k < 10; ++k) {

@@ -9,12 +9,11 @@
 // Run: build/bench/bench_reference [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
-#include <dirent.h>
-
 #include <algorithm>
 #include <string>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "pteromys/io.hpp"
 #include "pteromys/reference.hpp"
 
@@ -22,24 +21,10 @@ using namespace pteromys;
 
 namespace {
 
-std::vector<std::pair<std::string, Glider>> training() {
-  std::vector<std::string> names;
-  const std::string dir = std::string(PTEROMYS_SOURCE_DIR) + "/examples/training";
-  if (DIR* d = opendir(dir.c_str())) {
-    while (dirent* e = readdir(d)) {
-      const std::string n = e->d_name;
-      if (n.size() > 12 && n.substr(n.size() - 12) == ".glider.json") names.push_back(n);
-    }
-    closedir(d);
-  }
-  std::sort(names.begin(), names.end());
-  std::vector<std::pair<std::string, Glider>> out;
-  for (const auto& n : names) out.emplace_back(n.substr(0, n.size() - 12), load_glider(dir + "/" + n));
-  return out;
-}
+using bench::training_gliders;
 
 void generate(benchmark::State& st, TrackWindow window) {
-  const auto gliders = training();
+  const auto gliders = training_gliders();
   if (gliders.size() != 20) {
     st.SkipWithError("expected the 20 gliders of examples/training");
     return;
@@ -71,7 +56,7 @@ int main(int argc, char** argv) {
       ->Unit(benchmark::kSecond)
       ->UseRealTime()
       ->Iterations(1);
-  const auto gl = training();
+  const auto gl = training_gliders();
   for (const auto& [name, g] : gl) {
     if (name != "t05-tapered-strong" && name != "t11-delta" && name != "t17-canard" && name != "t18-tandem")
       continue;
