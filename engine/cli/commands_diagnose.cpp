@@ -329,7 +329,7 @@ const bool registered_diagnose = register_command(
          "  --no-second-round       do not test the other candidates added to the verdict's effect\n"
          "  --no-glider-guard       let an effect be significant whose held-out shrink falls\n"
          "                          below the margin once one glider is left out and that\n"
-         "                          improves at most half of the held-out gliders (by default\n"
+         "                          improves fewer than 3/4 of the held-out gliders (by default\n"
          "                          such a gain, resting on one glider, is not significant)\n"
          "  --prefer-identifiable   name a significant effect that re-tuned coefficients cannot\n"
          "                          imitate before a better one they can, unless the latter\n"

@@ -311,6 +311,13 @@ std::pair<double, int> leave_one_glider_out_shrink(const std::vector<double>& ba
   return worst;
 }
 
+bool glider_guard_pass(double robust_shrink, double margin, int improved, int total) {
+  if (improved < 0 || total < 0 || improved > total)
+    throw InputError("glider guard: " + std::to_string(improved) + " of " + std::to_string(total) +
+                     " gliders improved is not a count");
+  return robust_shrink >= margin || (total > 0 && 4 * improved >= 3 * total);
+}
+
 std::string dominant_glider_sentence(const json& where, const std::vector<EffectResult>& effects) {
   if (!where.contains("gliders") || !where.contains("all")) return {};
   const double all = where["all"].value("excess_m2", 0.0);
@@ -1735,7 +1742,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     glider_sse[e] = e_sse;
     r.robust_shrink = rs;
     r.robust_without = rg >= 0 ? D.gliders()[keys[rg]].key : std::string();
-    r.robust_pass = !o.glider_guard || rs >= o.min_shrink || 2 * r.gliders_improved > r.gliders_total;
+    r.robust_pass = !o.glider_guard || glider_guard_pass(rs, o.min_shrink, r.gliders_improved, r.gliders_total);
     r.implausible = describe_implausible(E, r.parameters, limits[e]);
     r.plausible = r.implausible.empty();
   }

@@ -45,7 +45,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     all gliders is refitted from its step there for its reported strength.
     ``glider_guard`` (default True): an effect whose held-out shrink falls
     below ``min_shrink`` with one held-out glider left out and that improves
-    at most half of the held-out gliders is not significant.
+    fewer than three quarters of the held-out gliders is not significant.
     ``prefer_identifiable`` (default False, experimental): when the best
     significant effect is indistinguishable from re-tuned coefficients and a
     significant one that is not predicts the held-out gliders not
