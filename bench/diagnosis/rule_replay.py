@@ -88,8 +88,21 @@ def heldout_robust(f):
     return built(dict(f, lr_pass=True)) and f["robust_shrink"] >= f["margin"]
 
 
+def guard_three_quarters(f):
+    """As built, with the glider guard of 2026-11-29 (glider_guard_pass in
+    the engine): a gain that rests on one glider (robust shrink under the
+    margin) needs at least three quarters of the held-out gliders improved,
+    not a bare majority. Replays results of binaries from before the change
+    under it (on later ones it is the rule as built)."""
+    if f["gliders"] <= 0:
+        return built(f)
+    guard = f["robust_shrink"] >= f["margin"] or 4 * f["improved"] >= 3 * f["gliders"]
+    return built(dict(f, robust_pass=f["robust_pass"] and guard))
+
+
 RULES = [("as built", built), ("held-out alone for collinear effects", heldout_for_collinear),
-         ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust)]
+         ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust),
+         ("glider guard at three quarters", guard_three_quarters)]
 
 
 def main(argv=None):
