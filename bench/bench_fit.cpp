@@ -17,14 +17,13 @@
 // Run: build/bench/bench_fit [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "pteromys/fit.hpp"
 #include "bench_common.hpp"
+#include "pteromys/fit.hpp"
 #include "pteromys/io.hpp"
 #include "pteromys/mass.hpp"
 #include "pteromys/reference.hpp"

@@ -9,7 +9,6 @@
 // Run: build/bench/bench_reference [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <string>
 #include <vector>
 

@@ -57,6 +57,7 @@ def fields(e, options):
         "margin": options.get("min_shrink", 0.05),
         "ho_test": bool(options.get("holdout_chi2_test", True)),
         "limit": options.get("collinearity_limit", 0.95),
+        "guard_on": bool(options.get("glider_guard", True)),
     }
 
 
@@ -94,7 +95,7 @@ def guard_three_quarters(f):
     margin) needs at least three quarters of the held-out gliders improved,
     not a bare majority. Replays results of binaries from before the change
     under it (on later ones it is the rule as built)."""
-    if f["gliders"] <= 0:
+    if not f["guard_on"] or f["gliders"] <= 0:  # diagnosed with --no-glider-guard, or no per-glider figures
         return built(f)
     guard = f["robust_shrink"] >= f["margin"] or 4 * f["improved"] >= 3 * f["gliders"]
     return built(dict(f, robust_pass=f["robust_pass"] and guard))
