@@ -22,7 +22,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
-             profiled_candidates=3, glider_guard=True, prefer_identifiable=False, threads=0, progress=None):
+             profiled_candidates=3, glider_guard=True, bound_guard=True, heldout_steps=True, escalate=False,
+             prefer_identifiable=False, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -46,6 +47,15 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``glider_guard`` (default True): an effect whose held-out shrink falls
     below ``min_shrink`` with one held-out glider left out and that improves
     fewer than three quarters of the held-out gliders is not significant.
+    ``bound_guard`` (default True): an effect more than half of whose
+    held-out gain comes from folds whose fit ran to the outer tenth of its
+    range is not significant.
+    ``heldout_steps`` (default True): a candidate the held-out gliders
+    confirm but whose gain on all gliders was under the screen is refitted
+    from its linearised step there before its likelihood-ratio test.
+    ``escalate`` (default False): when the first search leaves a real gap
+    unexplained, search again with every aerodynamic correction also
+    started at its theoretical size (several times slower).
     ``prefer_identifiable`` (default False, experimental): when the best
     significant effect is indistinguishable from re-tuned coefficients and a
     significant one that is not predicts the held-out gliders not
@@ -63,7 +73,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),
                 profile_min_gliders=profile_min_gliders, profiled_candidates=profiled_candidates,
-                glider_guard=bool(glider_guard),
+                glider_guard=bool(glider_guard), bound_guard=bool(bound_guard), heldout_steps=bool(heldout_steps),
+                escalate=bool(escalate),
                 prefer_identifiable=bool(prefer_identifiable), threads=threads)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
