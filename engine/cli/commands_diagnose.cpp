@@ -113,7 +113,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--profiled-candidates", "--step-alpha"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
-                             "--profile", "--no-profile", "--no-glider-guard",
+                             "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
@@ -140,6 +140,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.holdout_chi2_test = !a.flag("--no-holdout-test");
   o.second_effect = !a.flag("--no-second-round");
   o.glider_guard = !a.flag("--no-glider-guard");
+  o.bound_guard = !a.flag("--no-bound-guard");
   o.prefer_identifiable = a.flag("--prefer-identifiable");
   if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
   o.profile = !a.flag("--no-profile");
@@ -148,7 +149,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.carry_steps = !a.flag("--no-carry-steps");
   if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
     throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
-  o.heldout_steps = a.flag("--heldout-steps");
+  o.heldout_steps = !a.flag("--no-heldout-steps");
   if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
     throw InputError("--theory-starts and --no-theory-starts contradict each other");
   o.theory_starts = a.flag("--theory-starts");
@@ -306,10 +307,10 @@ const bool registered_diagnose = register_command(
          "                          gain passes there (by default those refitted from their step\n"
          "                          on all gliders are refitted so in every fold too, whatever\n"
          "                          their gain there: docs); --carry-steps: the default, explicitly\n"
-         "  --heldout-steps         a candidate the held-out gliders confirm but whose gain on\n"
-         "                          all gliders was under the screen is refitted from its step\n"
-         "                          there before its likelihood-ratio test (experimental: docs);\n"
-         "                          --no-heldout-steps: without (the default)\n"
+         "  --no-heldout-steps      by default a candidate the held-out gliders confirm but whose\n"
+         "                          gain on all gliders was under the screen is refitted from its\n"
+         "                          step there before its likelihood-ratio test (docs); with this\n"
+         "                          option it is not; --heldout-steps: the default, explicitly\n"
          "  --theory-starts         every aerodynamic correction also starts at its theoretical\n"
          "                          size (strength 1, reached in quarter steps) with the centre\n"
          "                          values refitted with it (experimental: docs);\n"
@@ -331,6 +332,9 @@ const bool registered_diagnose = register_command(
          "                          below the margin once one glider is left out and that\n"
          "                          improves fewer than 3/4 of the held-out gliders (by default\n"
          "                          such a gain, resting on one glider, is not significant)\n"
+         "  --no-bound-guard        let an effect be significant more than half of whose held-out\n"
+         "                          gain comes from folds whose fit ran to the outer tenth of its\n"
+         "                          range (by default such a gain is not taken as the effect)\n"
          "  --prefer-identifiable   name a significant effect that re-tuned coefficients cannot\n"
          "                          imitate before a better one they can, unless the latter\n"
          "                          predicts the held-out gliders significantly better (paired\n"

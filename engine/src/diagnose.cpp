@@ -228,6 +228,22 @@ std::string describe_parameters(Effect e, const std::vector<double>& v) {
   return s;
 }
 
+// "strength 0, 2.88, 3 in the folds (range to 3)": each fold's first
+// parameter and the range of that parameter.
+std::string describe_fold_range(Effect e, const std::vector<std::vector<double>>& folds) {
+  const auto& sp = effect_spec(e);
+  std::string out;
+  for (std::size_t i = 0; i < sp.parameters.size(); ++i) {
+    const auto& p = sp.parameters[i];
+    if (!out.empty()) out += "; ";
+    out += p.name + " ";
+    for (std::size_t k = 0; k < folds.size(); ++k)
+      out += (k ? ", " : "") + (i < folds[k].size() ? fmt(folds[k][i] * p.to_report, 3) : std::string("?"));
+    out += " in the folds (range " + fmt(p.lower * p.to_report, 3) + " to " + fmt(p.upper * p.to_report, 3) + ")";
+  }
+  return out;
+}
+
 /// Holm's step-down at family-wise level alpha over the p-values p: the
 /// level each p-value was compared with, and whether it passed.
 void holm(const std::vector<double>& p, double alpha, std::vector<double>& level, std::vector<bool>& pass) {
@@ -318,6 +334,33 @@ bool glider_guard_pass(double robust_shrink, double margin, int improved, int to
   return robust_shrink >= margin || (total > 0 && 4 * improved >= 3 * total);
 }
 
+double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
+                        const std::vector<double>& fold_gain) {
+  if (fold_params.size() != fold_gain.size())
+    throw InputError("bound guard: " + std::to_string(fold_params.size()) + " folds' parameters for " +
+                     std::to_string(fold_gain.size()) + " folds' gains");
+  const auto& ps = effect_spec(e).parameters;
+  double at_edge = 0, all = 0;
+  for (std::size_t k = 0; k < fold_gain.size(); ++k) {
+    if (!std::isfinite(fold_gain[k])) throw InputError("bound guard: fold " + std::to_string(k + 1) + "'s gain is not finite");
+    if (fold_params[k].size() != ps.size())
+      throw InputError("bound guard: fold " + std::to_string(k + 1) + " has " + std::to_string(fold_params[k].size()) +
+                       " parameters, " + effect_name(e) + " has " + std::to_string(ps.size()));
+    bool edge = false;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const double v = fold_params[k][i];
+      if (!std::isfinite(v))
+        throw InputError("bound guard: fold " + std::to_string(k + 1) + "'s " + ps[i].name + " is not finite");
+      if (ps[i].upper > 0 && v >= 0.9 * ps[i].upper) edge = true;
+      if (ps[i].lower < 0 && v <= 0.9 * ps[i].lower) edge = true;
+    }
+    const double g = std::max(0.0, fold_gain[k]);
+    all += g;
+    if (edge) at_edge += g;
+  }
+  return all > 0 ? at_edge / all : 0.0;
+}
+
 std::string dominant_glider_sentence(const json& where, const std::vector<EffectResult>& effects) {
   if (!where.contains("gliders") || !where.contains("all")) return {};
   const double all = where["all"].value("excess_m2", 0.0);
@@ -373,7 +416,8 @@ SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects
 
 bool heldout_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool stepped, bool per_flight) {
   return !stepped && !per_flight && r.shrink >= o.min_shrink &&
-         (!o.holdout_chi2_test || r.holdout_delta_chi2 > r.holdout_threshold) && r.robust_pass && r.plausible;
+         (!o.holdout_chi2_test || r.holdout_delta_chi2 > r.holdout_threshold) && r.robust_pass && r.plausible &&
+         r.bound_pass;
 }
 
 IdentifiablePreference prefer_identifiable(const std::vector<EffectResult>& effects, int best,
@@ -1620,7 +1664,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   std::map<int, double> g0;
   std::map<int, int> gn;
   std::vector<std::map<int, double>> ge(ne);
+  std::vector<std::vector<double>> fold_gain(ne, std::vector<double>(K, 0.0));  // held-out gain per fold
   for (const auto& h : res.heldout) {
+    for (int e = 0; e < ne; ++e) fold_gain[e][h.fold] += h.baseline.sse - h.effects[e].sse;
     sse0_ho += h.baseline.sse;
     n_ho += static_cast<int>(h.baseline.residual.size());
     ++f_ho;
@@ -1745,6 +1791,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     r.robust_pass = !o.glider_guard || glider_guard_pass(rs, o.min_shrink, r.gliders_improved, r.gliders_total);
     r.implausible = describe_implausible(E, r.parameters, limits[e]);
     r.plausible = r.implausible.empty();
+    r.bound_share = fold_bound_share(E, fold_params[e], fold_gain[e]);
+    r.bound_pass = !o.bound_guard || r.bound_share <= 0.5;
   }
   // Candidate e refitted from its own linearised step with the centre values
   // on all gliders, from the final all-glider baseline (`label`: the
@@ -1838,7 +1886,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   for (auto& r : res.effects)
     r.significant =
         decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass && r.robust_pass &&
-        r.plausible;
+        r.plausible && r.bound_pass;
 
   // ------------------------------------------------------------ identifiability
   report("analysis", "identifiability: effects against re-tuned coefficients and trims");
@@ -2193,6 +2241,12 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     std::string n;
     if (r.significant) n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
                            ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
+    else if (!r.bound_pass && r.shrink >= o.min_shrink)
+      n = "predicts held-out gliders better (shrink " + pct(r.shrink) + "), but " + pct(r.bound_share) +
+          " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
+          describe_fold_range(r.effect, r.fold_parameters) +
+          "): the correction's shape turned as far as it goes absorbs some other misfit; the folds do not agree on a "
+          "size of the effect";
     else if (!r.lr_pass) n = "not significant on the training gliders (p " + fmt(r.p_value, 2) + ")";
     else if (!r.rate_mean_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
       n = "fits and predicts better, but the flights' own rates do not share a direction (mean " +
@@ -2533,6 +2587,8 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                                                   {"robust_shrink", e.robust_shrink},
                                                   {"robust_without", e.robust_without},
                                                   {"robust_pass", e.robust_pass},
+                                                  {"bound_share", e.bound_share},
+                                                  {"bound_pass", e.bound_pass},
                                                   {"glider_holdout_rmse_m", glider_map(e.glider_holdout_rmse_m)},
                                                   {"glider_baseline_holdout_rmse_m",
                                                    glider_map(e.glider_baseline_holdout_rmse_m)}}},
@@ -2613,6 +2669,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"min_shrink", o.min_shrink},
                   {"holdout_chi2_test", o.holdout_chi2_test},
                   {"glider_guard", o.glider_guard},
+                  {"bound_guard", o.bound_guard},
                   {"prefer_identifiable", o.prefer_identifiable},
                   {"none_tolerance", o.none_tolerance},
                   {"collinearity_limit", o.collinearity_limit},

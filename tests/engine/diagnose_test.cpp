@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <random>
 #include <map>
 #include <regex>
@@ -533,22 +534,31 @@ TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
 // step (DiagnoseOptions::profiled_candidates = 0) the fits keep the
 // baseline's coefficients, which take part of the damping (about 0.93 at a
 // fit error near 0.9 cm, four times the 2 mm noise, on these flights). The
-// verdict's effect is then refitted from its own step on all gliders, and the
-// reported strength and fit error are the truth's (strength 1 within 0.1)
-// and the noise's; without that refit the fit error assertion fails.
+// held-out gliders confirm pitch damping, so by default the held-out-led
+// step refits it from its own step on all gliders before its likelihood
+// ratio (DiagnoseOptions::heldout_steps); without those, the verdict's
+// effect is refitted so after the decision. Either way the reported
+// strength and fit error are the truth's (strength 1 within 0.1) and the
+// noise's; without the refit the fit error assertion fails.
 TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
   auto [d, o] = profiled_pitch_damping_case();
   o.profiled_candidates = 0;
-  std::vector<std::string> lines;
-  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
-  ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
-  EXPECT_EQ(lines_with(lines, "the verdict's strength: pitch_damping refitted from its linearised step"), 1);
-  for (const auto& e : r.effects)
-    if (e.effect == Effect::PitchDamping) {
-      ASSERT_EQ(e.parameters.size(), 1u);
-      EXPECT_NEAR(e.parameters[0], 1.0, 0.1);
-      EXPECT_LT(e.fit_rmse_m, 2 * 0.002);
-    }
+  for (const bool heldout_steps : {true, false}) {
+    SCOPED_TRACE(heldout_steps ? "held-out-led steps" : "without held-out-led steps");
+    o.heldout_steps = heldout_steps;
+    std::vector<std::string> lines;
+    const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+    ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
+    EXPECT_EQ(lines_with(lines, "all gliders, held-out-led: pitch_damping (held-out shrink"), heldout_steps ? 1 : 0);
+    EXPECT_EQ(lines_with(lines, "the verdict's strength: pitch_damping refitted from its linearised step"),
+              heldout_steps ? 0 : 1);
+    for (const auto& e : r.effects)
+      if (e.effect == Effect::PitchDamping) {
+        ASSERT_EQ(e.parameters.size(), 1u);
+        EXPECT_NEAR(e.parameters[0], 1.0, 0.1);
+        EXPECT_LT(e.fit_rmse_m, 2 * 0.002);
+      }
+  }
   // Refused: a negative count.
   o.profiled_candidates = -1;
   EXPECT_THROW(diagnose(d, o), InputError);
@@ -1263,6 +1273,40 @@ TEST(DiagnoseStatistics, TheGliderGuardWantsThreeQuartersOfTheGlidersWhenTheGain
   EXPECT_THROW(glider_guard_pass(0.1, 0.05, -1, 8), InputError);
 }
 
+// The bound guard (fold_bound_share): the share of the held-out gain that
+// comes from folds whose fit ran to the outer tenth of the candidate's
+// range. By its definition on blind pitch damping at 1, seed 26: added mass
+// fitted 0, 2.879, 3, 3 (range 0 to 3) in the folds, whose held-out gains
+// (points times mm squared, from the diagnosis's per-glider RMSEs) were 20,
+// 21416, 6195, 13495: all but the first fold's 20 from folds at the edge.
+// Finite span on seed 30 (0.415, 0, 0.806, 0.739) has none there; a
+// strength's lower bound 0 is the baseline, not an edge; a signed
+// parameter's edge is on either side.
+TEST(DiagnoseStatistics, TheBoundGuardCountsTheGainOfFoldsFittedAtTheEdgeOfTheRange) {
+  const std::vector<double> gains = {20, 21416, 6195, 13495};
+  const double am = fold_bound_share(Effect::AddedMass, {{0.0}, {2.879}, {3.0}, {3.0}}, gains);
+  EXPECT_NEAR(am, (21416.0 + 6195 + 13495) / (20.0 + 21416 + 6195 + 13495), 1e-12);
+  EXPECT_GT(am, 0.5);
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::FiniteSpan, {{0.415}, {0.0}, {0.806}, {0.739}}, gains), 0.0);
+  // 2.69 is under 0.9 of 3, 2.7 is not.
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::AddedMass, {{2.69}, {0}, {0}, {0}}, {1, 1, 1, 1}), 0.0);
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::AddedMass, {{2.7}, {0}, {0}, {0}}, {1, 1, 1, 1}), 0.25);
+  // Folds that predict worse do not offset the others: positive parts only.
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::AddedMass, {{3}, {1}, {0}, {0}}, {2, 2, -10, 0}), 0.5);
+  // Wind's range is -15 to 15 m/s: either side is an edge.
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::Wind, {{-14.0}, {1.0}}, {3, 1}), 0.75);
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::Wind, {{14.0}, {-1.0}}, {3, 1}), 0.75);
+  // The camera: any of its two parameters (scale, roll in rad; range +-0.5).
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::Camera, {{0.01, 0.46}, {0.03, 0.03}}, {1, 1}), 0.5);
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::Camera, {{0.01, 0.02}, {0.03, 0.03}}, {1, 1}), 0.0);
+  // No fold gains: no share.
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::AddedMass, {{3}, {3}}, {-1, 0}), 0.0);
+  EXPECT_THROW(fold_bound_share(Effect::AddedMass, {{3}}, {1, 2}), InputError);
+  EXPECT_THROW(fold_bound_share(Effect::Camera, {{0.01}}, {1}), InputError);
+  EXPECT_THROW(fold_bound_share(Effect::AddedMass, {{std::nan("")}}, {1}), InputError);
+  EXPECT_THROW(fold_bound_share(Effect::AddedMass, {{1}}, {std::numeric_limits<double>::infinity()}), InputError);
+}
+
 // A linearised step that overshoots is given up after its first fit and
 // damped (kGiveUpFactor, kStepFractions in src/diagnose.cpp): with a 2 m/s
 // head wind (2 mm noise) the linearisation on all gliders points far past
@@ -1336,6 +1380,10 @@ TEST(Diagnose, HeldOutLedStepsTakeOnlyCandidatesTheHeldOutGlidersConfirm) {
   EffectResult implausible = r;
   implausible.plausible = false;
   EXPECT_FALSE(heldout_step_eligible(implausible, o, false, false));
+  EffectResult at_edge = r;  // added mass on pitch damping s26: folds at its range's edge
+  at_edge.bound_share = 0.9995;
+  at_edge.bound_pass = false;
+  EXPECT_FALSE(heldout_step_eligible(at_edge, o, false, false));
   DiagnoseOptions wide = o;
   wide.min_shrink = 0.2;
   EXPECT_FALSE(heldout_step_eligible(r, wide, false, false));

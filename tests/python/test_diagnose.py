@@ -108,6 +108,8 @@ def test_each_effects_note_states_its_own_tests(camera_case):
         lr, cv, n = e["likelihood_ratio"], e["cross_validation"], e["note"]
         if e["significant"]:
             assert n.startswith("significant"), (e["name"], n)
+        elif not cv["bound_pass"] and e["shrink"] >= margin:
+            assert "edge of the correction's range" in n, (e["name"], n)
         elif not lr["pass"]:
             assert n.startswith("not significant on the training gliders"), (e["name"], n)
         elif (not cv["robust_pass"] and e.get("rate_mean", {}).get("pass", True) and e["shrink"] >= margin
@@ -153,6 +155,27 @@ def test_per_glider_held_out_errors_add_up_to_the_effects_held_out_error(camera_
         assert cv["robust_without"] == worst
         assert cv["robust_pass"] == (logo[worst] >= j["options"]["min_shrink"] or
                                      4 * cv["gliders_improved"] >= 3 * cv["gliders"]), e["name"]
+        # The bound guard's figure, recomputed: the held-out gain per fold
+        # (its held-out gliders' points), the share of folds whose fitted
+        # parameters lie in the outer tenth of the library's ranges
+        # (docs/diagnosis.md: strengths 0 to 3, fuselage drag to 10; wind
+        # +-15 m/s; launch rotation +-20 rad/s; camera scale +-0.5, roll
+        # +-0.5 rad).
+        ranges = {"strength": (0, 10 if e["name"] == "fuselage_drag" else 3), "wind_m_s": (-15, 15),
+                  "pitch_rate_deg_s": (-20 * 180 / math.pi, 20 * 180 / math.pi), "scale_error": (-0.5, 0.5),
+                  "roll_deg": (-0.5 * 180 / math.pi, 0.5 * 180 / math.pi)}
+        folds = j["cross_validation"]["held_out_gliders"]
+        assert len(folds) == len(e["fold_parameters"])
+        edge = all_gain = 0.0
+        for gl, par in zip(folds, e["fold_parameters"]):
+            gain = max(0.0, sum(sse0[g] - sse[g] for g in gl))
+            at = any((hi > 0 and v >= 0.9 * hi) or (lo < 0 and v <= 0.9 * lo)
+                     for k, v in par.items() for lo, hi in [ranges[k]])
+            all_gain += gain
+            edge += gain if at else 0.0
+        share = edge / all_gain if all_gain > 0 else 0.0
+        assert cv["bound_share"] == pytest.approx(share, rel=1e-6, abs=1e-9), e["name"]
+        assert cv["bound_pass"] == (share <= 0.5), e["name"]
 
 
 def test_no_candidate_explains_the_flights_worse_than_the_baseline_it_contains(camera_case):
@@ -305,7 +328,12 @@ def test_null_data_give_no_discovery(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     msgs = []
-    j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, progress=lambda p: msgs.append(p))
+    # The held-out-led steps off (they can only add significance) and the
+    # second search asked for explicitly: the wrapper passes both through.
+    j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, heldout_steps=False, escalate=False,
+                          progress=lambda p: msgs.append(p))
+    assert j["options"]["heldout_steps"] is False and j["options"]["escalate"] is False
+    assert j["options"]["bound_guard"] is True
     assert j["format"] == "pteromys-diagnosis/1"
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
     assert j["verdict"] == "none", j["summary"]
@@ -321,7 +349,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profiled_candidates"] == 3
     assert camera_case[1]["options"]["carry_steps"] is True
     assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
-    assert camera_case[1]["options"]["heldout_steps"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["heldout_steps"] is True  # on by default since 2026-11-29
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
     assert camera_case[1]["options"]["hold_theory"] is False  # experimental, off by default
     # the second search is off by default and did not run (the verdict is the camera)
@@ -330,6 +358,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     # the folds' screen steps every candidate with a gain by default
     assert camera_case[1]["options"]["step_alpha"] == 1.0
     assert camera_case[1]["options"]["glider_guard"] is True
+    assert camera_case[1]["options"]["bound_guard"] is True
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
