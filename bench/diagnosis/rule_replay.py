@@ -36,7 +36,40 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run_blind import case_of  # noqa: E402  (the benchmark's case names)
 
 
-def fields(e, options):
+# The fits' ranges (engine/src/effects.cpp, docs/diagnosis.md "The bound
+# guard"), in the reported units of `fold_parameters`.
+RANGES = {"strength": (0.0, 3.0), "wind_m_s": (-15.0, 15.0),
+          "pitch_rate_deg_s": (-20 * 180 / math.pi, 20 * 180 / math.pi), "scale_error": (-0.5, 0.5),
+          "roll_deg": (-0.5 * 180 / math.pi, 0.5 * 180 / math.pi)}
+
+
+def bound_share(e, r):
+    """The bound guard's figure (fold_bound_share in the engine) from a
+    stored result: each fold's held-out gain from the per-glider held-out
+    RMSEs and points, the share of folds fitted in the outer tenth of the
+    range. None when the result lacks the per-glider figures."""
+    cv = e.get("cross_validation", {})
+    per, per0 = cv.get("glider_holdout_rmse_m"), cv.get("glider_baseline_holdout_rmse_m")
+    folds = r.get("cross_validation", {}).get("held_out_gliders")
+    pts = {g["glider"]: g["points"] for g in r.get("where", {}).get("gliders", [])}
+    fp = e.get("fold_parameters")
+    if not per or not per0 or not folds or not pts or not fp or len(fp) != len(folds):
+        return None
+    edge = total = 0.0
+    for gl, par in zip(folds, fp):
+        gain = max(0.0, sum(pts[g] * (per0[g] ** 2 - per[g] ** 2) for g in gl))
+        at = False
+        for k, v in par.items():
+            lo, hi = RANGES[k]
+            if k == "strength" and e["name"] == "fuselage_drag":
+                hi = 10.0
+            at = at or (hi > 0 and v >= 0.9 * hi) or (lo < 0 and v <= 0.9 * lo)
+        total += gain
+        edge += gain if at else 0.0
+    return edge / total if total > 0 else 0.0
+
+
+def fields(e, options, r=None):
     lr = e.get("likelihood_ratio", {})
     cv = e.get("cross_validation", {})
     rate = e.get("rate_mean")
@@ -58,6 +91,9 @@ def fields(e, options):
         "ho_test": bool(options.get("holdout_chi2_test", True)),
         "limit": options.get("collinearity_limit", 0.95),
         "guard_on": bool(options.get("glider_guard", True)),
+        "bound_pass": bool(cv.get("bound_pass", True)),
+        "bound_on": bool(options.get("bound_guard", False)),
+        "bound_share": bound_share(e, r) if r is not None else None,
     }
 
 
@@ -65,7 +101,7 @@ def built(f):
     """The rule as built."""
     ho = (not f["ho_test"]) or f["ho_dchi2"] > f["ho_threshold"]
     return f["lr_pass"] and f["shrink"] >= f["margin"] and ho and f["rate_pass"] and f["robust_pass"] and \
-        f["plausible"]
+        f["plausible"] and f["bound_pass"]
 
 
 def heldout_for_collinear(f):
@@ -101,9 +137,20 @@ def guard_three_quarters(f):
     return built(dict(f, robust_pass=f["robust_pass"] and guard))
 
 
+def bound_guard(f):
+    """As built, with the bound guard of 2026-11-29 (fold_bound_share in the
+    engine): not significant when more than half of the held-out gain comes
+    from folds fitted in the outer tenth of the range. Replays results of
+    binaries from before it (it cannot replay what the held-out-led steps,
+    on by default since then, would have added)."""
+    if f["bound_on"] or f["bound_share"] is None:
+        return built(f)
+    return built(dict(f, bound_pass=f["bound_share"] <= 0.5))
+
+
 RULES = [("as built", built), ("held-out alone for collinear effects", heldout_for_collinear),
          ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust),
-         ("glider guard at three quarters", guard_three_quarters)]
+         ("glider guard at three quarters", guard_three_quarters), ("bound guard", bound_guard)]
 
 
 def main(argv=None):
@@ -127,7 +174,7 @@ def main(argv=None):
                 continue
             seen.add(key)
             opts = r.get("options", {})
-            cases.append((p, name, c["truth"], not c["truth"], r, [fields(e, opts) for e in r["effects"]]))
+            cases.append((p, name, c["truth"], not c["truth"], r, [fields(e, opts, r) for e in r["effects"]]))
     if not cases:
         sys.exit("no blind-benchmark diagnoses (EFFECT-STRENGTH-sSEED/diagnosis.json, null-sSEED/...) under " +
                  ", ".join(args.dirs))
@@ -173,6 +220,13 @@ def main(argv=None):
                                     (f["name"], 100 * f["shrink"], 100 * f["robust_shrink"], f["improved"],
                                      f["gliders"], f["p"]) for f in c[5] if rule(f) and not built(f))
                     lines.append("  %s: %s [%s]: %s" % (what, c[1], c[4].get("bench_commit", "?"), sig))
+            now_p = {c[0] for c in now}
+            for c in before:
+                if c[0] not in now_p:
+                    rule = dict(RULES)[label]
+                    gone = ", ".join("%s (shrink %.1f %%)" % (f["name"], 100 * f["shrink"])
+                                     for f in c[5] if built(f) and not rule(f))
+                    lines.append("  no longer %s: %s [%s]: %s" % (what, c[1], c[4].get("bench_commit", "?"), gone))
         print("%s, against the rule as built:" % label)
         print("\n".join(lines) if lines else "  no change")
     return 0

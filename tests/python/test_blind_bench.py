@@ -252,3 +252,32 @@ def test_rule_replay_refuses_results_its_rule_does_not_reproduce(tmp_path):
     r = subprocess.run([sys.executable, os.path.join(ROOT, "bench", "diagnosis", "rule_replay.py"),
                         str(tmp_path / "nothing")], capture_output=True, text=True)
     assert r.returncode != 0 and "no blind-benchmark diagnoses" in r.stderr
+
+
+def test_rule_replay_recomputes_the_bound_guard_from_stored_per_glider_figures(tmp_path, capsys):
+    # Worked out by hand: two folds of one glider each, 100 points, baseline
+    # 20 mm on both; added mass fitted 2.9 (over 0.9 of its range's 3) where
+    # glider a went to 10 mm (gain 100 * (400 - 100) mm^2) and 0.5 where b
+    # went to 19 mm (gain 100 * (400 - 361)): share 30000 / 33900 = 0.885,
+    # over one half, so the bound guard takes the stored significance away.
+    # Fuselage drag at 2.9 is far from its range's 10: no edge.
+    r = {"cross_validation": {"held_out_gliders": [["a"], ["b"]]},
+         "where": {"gliders": [{"glider": "a", "points": 100}, {"glider": "b", "points": 100}]}}
+
+    def eff(name):
+        e = _stored(name, True, 0.3, 40.0, True)
+        e["fold_parameters"] = [{"strength": 2.9}, {"strength": 0.5}]
+        e["cross_validation"]["glider_holdout_rmse_m"] = {"a": 0.010, "b": 0.019}
+        e["cross_validation"]["glider_baseline_holdout_rmse_m"] = {"a": 0.020, "b": 0.020}
+        return e
+    assert rr.bound_share(eff("added_mass"), r) == pytest.approx(30000 / 33900)
+    assert rr.bound_share(eff("fuselage_drag"), r) == 0.0
+    assert rr.bound_share(_stored("wind", True, 0.3, 40.0, True), r) is None  # no per-glider figures
+    d = tmp_path / "pitch_damping-1-s7"
+    d.mkdir()
+    (d / "diagnosis.json").write_text(json.dumps(dict(r, effects=[eff("added_mass")], options={"min_shrink": 0.05})))
+    assert rr.main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "| as built | 0 of 0 (95 % bound nan %) | 0 of 1 | 1 of 1 |" in out
+    assert "| bound guard | 0 of 0 (95 % bound nan %) | 0 of 1 | 0 of 1 |" in out
+    assert "no longer another effect significant: pitch_damping-1-s7" in out
