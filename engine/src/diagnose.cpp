@@ -228,8 +228,8 @@ std::string describe_parameters(Effect e, const std::vector<double>& v) {
   return s;
 }
 
-// "strength 0, 2.88, 3 in the folds (range to 3)": each fold's first
-// parameter and the range of that parameter.
+// "strength 0, 2.88, 3, 3 in the folds, range 0 to 3": each parameter's
+// value in every fold and the fit's range of that parameter.
 std::string describe_fold_range(Effect e, const std::vector<std::vector<double>>& folds) {
   const auto& sp = effect_spec(e);
   std::string out;
@@ -239,7 +239,7 @@ std::string describe_fold_range(Effect e, const std::vector<std::vector<double>>
     out += p.name + " ";
     for (std::size_t k = 0; k < folds.size(); ++k)
       out += (k ? ", " : "") + (i < folds[k].size() ? fmt(folds[k][i] * p.to_report, 3) : std::string("?"));
-    out += " in the folds (range " + fmt(p.lower * p.to_report, 3) + " to " + fmt(p.upper * p.to_report, 3) + ")";
+    out += " in the folds, range " + fmt(p.lower * p.to_report, 3) + " to " + fmt(p.upper * p.to_report, 3);
   }
   return out;
 }
