@@ -1666,7 +1666,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   std::vector<std::map<int, double>> ge(ne);
   std::vector<std::vector<double>> fold_gain(ne, std::vector<double>(K, 0.0));  // held-out gain per fold
   for (const auto& h : res.heldout) {
-    for (int e = 0; e < ne; ++e) fold_gain[e][h.fold] += h.baseline.sse - h.effects[e].sse;
     sse0_ho += h.baseline.sse;
     n_ho += static_cast<int>(h.baseline.residual.size());
     ++f_ho;
@@ -1676,6 +1675,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     for (int e = 0; e < ne; ++e) {
       sse_ho[e] += h.effects[e].sse;
       ge[e][g] += h.effects[e].sse;
+      fold_gain[e][h.fold] += h.baseline.sse - h.effects[e].sse;
     }
   }
   int trims_total = 0;

@@ -328,12 +328,13 @@ def test_null_data_give_no_discovery(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     msgs = []
-    # The held-out-led steps off (they can only add significance) and the
-    # second search asked for explicitly: the wrapper passes both through.
+    # The held-out-led steps and the bound guard off and the second search
+    # asked for explicitly: the wrapper passes all three through (null
+    # data: nothing may be significant with or without them).
     j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, heldout_steps=False, escalate=False,
-                          progress=lambda p: msgs.append(p))
+                          bound_guard=False, progress=lambda p: msgs.append(p))
     assert j["options"]["heldout_steps"] is False and j["options"]["escalate"] is False
-    assert j["options"]["bound_guard"] is True
+    assert j["options"]["bound_guard"] is False
     assert j["format"] == "pteromys-diagnosis/1"
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
     assert j["verdict"] == "none", j["summary"]
@@ -363,11 +364,14 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
-                                               "--no-carry-steps"])
+                                               "--no-carry-steps", "--no-bound-guard", "--no-heldout-steps"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
     assert j["options"]["glider_guard"] is False
+    assert j["options"]["bound_guard"] is False
+    assert j["options"]["heldout_steps"] is False
+    assert all(e["cross_validation"]["bound_pass"] for e in j["effects"])  # no guard, nothing it stops
     assert j["options"]["prefer_identifiable"] is True
     assert j["options"]["carry_steps"] is False
     # null data: nothing significant, so nothing to pass over
