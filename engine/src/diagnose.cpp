@@ -334,6 +334,65 @@ bool glider_guard_pass(double robust_shrink, double margin, int improved, int to
   return robust_shrink >= margin || (total > 0 && 4 * improved >= 3 * total);
 }
 
+namespace {
+// The decision rule, the same in both rounds: the likelihood-ratio test
+// passed (Holm), the held-out RMSE shrank by the margin, and the held-out
+// improvement exceeds its chi-square quantile.
+bool decision_rule(const DiagnoseOptions& o, bool lr_pass, double shrink, double holdout_delta_chi2,
+                   double threshold) {
+  return lr_pass && shrink >= o.min_shrink && (!o.holdout_chi2_test || holdout_delta_chi2 > threshold);
+}
+}  // namespace
+
+std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool own_limit) {
+  auto decided = [&](bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
+    return decision_rule(o, lr_pass, shrink, holdout_delta_chi2, threshold);
+  };
+  std::string n;
+  if (r.significant) n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
+                         ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
+  else if (!r.bound_pass && r.shrink >= o.min_shrink)
+    n = "predicts held-out gliders better (shrink " + pct(r.shrink) + "), but " + pct(r.bound_share) +
+        " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
+        describe_fold_range(r.effect, r.fold_parameters) +
+        "): the correction's shape turned as far as it goes absorbs some other misfit; the folds do not agree on a "
+        "size of the effect";
+  else if (!r.lr_pass) n = "not significant on the training gliders (p " + fmt(r.p_value, 2) + ")";
+  else if (!r.rate_mean_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+    n = "fits and predicts better, but the flights' own rates do not share a direction (mean " +
+        fmt(rad2deg(r.rate_mean), 2) + " deg/s, t " + fmt(r.rate_mean_t, 2) + ", p " + fmt(r.rate_mean_p, 2) +
+        "): a free sixth launch value absorbing misfit (or throws whose rotation varies in sign), not a launcher's "
+        "rotation";
+  else if (!r.robust_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+    n = "fits and predicts better (shrink " + pct(r.shrink) + "), but the held-out gain rests on one glider: without " +
+        r.robust_without + " the shrink is " + pct(r.robust_shrink) + ", less than the " + pct(o.min_shrink) +
+        " margin, and it improves only " + std::to_string(r.gliders_improved) + " of " +
+        std::to_string(r.gliders_total) + " held-out gliders; one glider's misfit is not evidence of an effect";
+  else if (!r.plausible && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+    n = "fits and predicts better (shrink " + pct(r.shrink) + "), but at an implausible size, " + r.implausible +
+        (own_limit ? std::string(", the limit given") : ": " + effect_spec(r.effect).plausibility) +
+        ". More likely it absorbs another misfit (if the recording could be that far off, check it)";
+  else if (r.shrink <= 0)
+    n = "fits the training gliders better but predicts held-out gliders worse (shrink " + pct(r.shrink) + ")";
+  else if (r.shrink < o.min_shrink && r.holdout_delta_chi2 > r.holdout_threshold)
+    // Confirmed on held-out gliders, but too small a part of the gap to be
+    // its cause (launch rotation data: 8 of 8 gliders better, 2.2 %; the
+    // true effect added to the baseline closed 1.6 %).
+    n = "fits the training gliders better and predicts held-out gliders better (" +
+        std::to_string(r.gliders_improved) + " of " + std::to_string(r.gliders_total) + " gliders), but closes only " +
+        pct(r.shrink) + " of the held-out error, less than the " + pct(o.min_shrink) +
+        " margin: it is not what leaves the gap";
+  else if (r.shrink < o.min_shrink)
+    n = "fits the training gliders better but barely carries over to held-out gliders (shrink " + pct(r.shrink) + ")";
+  else n = "held-out improvement within what fitting its strength to noise gives";
+  if (r.strength_held)
+    n += "; strength held at its theoretical size (freed, it fitted the training gliders no significantly better)";
+  if (r.indistinguishable)
+    n += "; " + pct(r.coefficient_collinearity) + " of its signature is a change of the coefficients or trims: it cannot "
+         "be told apart from re-tuned coefficients";
+  return n;
+}
+
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain) {
   if (fold_params.size() != fold_gain.size())
@@ -1846,11 +1905,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         full_stepped[e] = true;
     timings["heldout_steps_s"] = since(ts);
   }
-  // The decision rule, the same in both rounds: the likelihood-ratio test
-  // passed (Holm), the held-out RMSE shrank by the margin, and the held-out
-  // improvement exceeds its chi-square quantile.
+  // The decision rule (decision_rule), the same in both rounds.
   auto decided = [&](bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
-    return lr_pass && shrink >= o.min_shrink && (!o.holdout_chi2_test || holdout_delta_chi2 > threshold);
+    return decision_rule(o, lr_pass, shrink, holdout_delta_chi2, threshold);
   };
   // Holm's step-down over the library.
   {
@@ -2237,53 +2294,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     timings["second_round_s"] = since(t2);
   }
 
-  for (auto& r : res.effects) {
-    std::string n;
-    if (r.significant) n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
-                           ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
-    else if (!r.bound_pass && r.shrink >= o.min_shrink)
-      n = "predicts held-out gliders better (shrink " + pct(r.shrink) + "), but " + pct(r.bound_share) +
-          " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
-          describe_fold_range(r.effect, r.fold_parameters) +
-          "): the correction's shape turned as far as it goes absorbs some other misfit; the folds do not agree on a "
-          "size of the effect";
-    else if (!r.lr_pass) n = "not significant on the training gliders (p " + fmt(r.p_value, 2) + ")";
-    else if (!r.rate_mean_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
-      n = "fits and predicts better, but the flights' own rates do not share a direction (mean " +
-          fmt(rad2deg(r.rate_mean), 2) + " deg/s, t " + fmt(r.rate_mean_t, 2) + ", p " + fmt(r.rate_mean_p, 2) +
-          "): a free sixth launch value absorbing misfit (or throws whose rotation varies in sign), not a launcher's "
-          "rotation";
-    else if (!r.robust_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
-      n = "fits and predicts better (shrink " + pct(r.shrink) + "), but the held-out gain rests on one glider: without " +
-          r.robust_without + " the shrink is " + pct(r.robust_shrink) + ", less than the " + pct(o.min_shrink) +
-          " margin, and it improves only " + std::to_string(r.gliders_improved) + " of " +
-          std::to_string(r.gliders_total) + " held-out gliders; one glider's misfit is not evidence of an effect";
-    else if (!r.plausible && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
-      n = "fits and predicts better (shrink " + pct(r.shrink) + "), but at an implausible size, " + r.implausible +
-          (own_limits[static_cast<std::size_t>(&r - res.effects.data())]
-               ? std::string(", the limit given")
-               : ": " + effect_spec(r.effect).plausibility) +
-          ". More likely it absorbs another misfit (if the recording could be that far off, check it)";
-    else if (r.shrink <= 0)
-      n = "fits the training gliders better but predicts held-out gliders worse (shrink " + pct(r.shrink) + ")";
-    else if (r.shrink < o.min_shrink && r.holdout_delta_chi2 > r.holdout_threshold)
-      // Confirmed on held-out gliders, but too small a part of the gap to be
-      // its cause (launch rotation data: 8 of 8 gliders better, 2.2 %; the
-      // true effect added to the baseline closed 1.6 %).
-      n = "fits the training gliders better and predicts held-out gliders better (" +
-          std::to_string(r.gliders_improved) + " of " + std::to_string(r.gliders_total) + " gliders), but closes only " +
-          pct(r.shrink) + " of the held-out error, less than the " + pct(o.min_shrink) +
-          " margin: it is not what leaves the gap";
-    else if (r.shrink < o.min_shrink)
-      n = "fits the training gliders better but barely carries over to held-out gliders (shrink " + pct(r.shrink) + ")";
-    else n = "held-out improvement within what fitting its strength to noise gives";
-    if (r.strength_held)
-      n += "; strength held at its theoretical size (freed, it fitted the training gliders no significantly better)";
-    if (r.indistinguishable)
-      n += "; " + pct(r.coefficient_collinearity) + " of its signature is a change of the coefficients or trims: it cannot "
-           "be told apart from re-tuned coefficients";
-    r.note = n;
-  }
+  for (std::size_t i = 0; i < res.effects.size(); ++i)
+    res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
 
   // ------------------------------------------------------------ where
   report("analysis", "where the gap lies");

@@ -556,6 +556,15 @@ bool glider_guard_pass(double robust_shrink, double margin, int improved, int to
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain);
 
+/// The plain-language note of one candidate (EffectResult::note): why it is
+/// significant or, in the order the diagnosis decides, what stopped it (the
+/// bound guard, the likelihood-ratio test, the launch rates' direction, the
+/// glider guard, plausibility, the held-out margin), plus whether its
+/// strength was held and whether it cannot be told apart from re-tuned
+/// coefficients. `own_limit`: the plausibility limit was the user's, not
+/// the library's (EffectSpec::plausibility).
+std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool own_limit);
+
 /// DiagnoseOptions::launch_rotation_per_flight from its spelling in the
 /// command line and the Python call: "per-flight" (true) or "common"
 /// (false); anything else is an InputError naming `option`.
