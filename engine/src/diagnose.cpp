@@ -345,9 +345,8 @@ bool decision_rule(const DiagnoseOptions& o, bool lr_pass, double shrink, double
 }  // namespace
 
 std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool own_limit) {
-  auto decided = [&](bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
-    return decision_rule(o, lr_pass, shrink, holdout_delta_chi2, threshold);
-  };
+  // Whether the three tests alone (not the guards) would have passed it.
+  const bool decided = decision_rule(o, r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold);
   std::string n;
   if (r.significant) n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
                          ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
@@ -358,17 +357,17 @@ std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool ow
         "): the correction's shape turned as far as it goes absorbs some other misfit; the folds do not agree on a "
         "size of the effect";
   else if (!r.lr_pass) n = "not significant on the training gliders (p " + fmt(r.p_value, 2) + ")";
-  else if (!r.rate_mean_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+  else if (!r.rate_mean_pass && decided)
     n = "fits and predicts better, but the flights' own rates do not share a direction (mean " +
         fmt(rad2deg(r.rate_mean), 2) + " deg/s, t " + fmt(r.rate_mean_t, 2) + ", p " + fmt(r.rate_mean_p, 2) +
         "): a free sixth launch value absorbing misfit (or throws whose rotation varies in sign), not a launcher's "
         "rotation";
-  else if (!r.robust_pass && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+  else if (!r.robust_pass && decided)
     n = "fits and predicts better (shrink " + pct(r.shrink) + "), but the held-out gain rests on one glider: without " +
         r.robust_without + " the shrink is " + pct(r.robust_shrink) + ", less than the " + pct(o.min_shrink) +
         " margin, and it improves only " + std::to_string(r.gliders_improved) + " of " +
         std::to_string(r.gliders_total) + " held-out gliders; one glider's misfit is not evidence of an effect";
-  else if (!r.plausible && decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold))
+  else if (!r.plausible && decided)
     n = "fits and predicts better (shrink " + pct(r.shrink) + "), but at an implausible size, " + r.implausible +
         (own_limit ? std::string(", the limit given") : ": " + effect_spec(r.effect).plausibility) +
         ". More likely it absorbs another misfit (if the recording could be that far off, check it)";

@@ -11,6 +11,7 @@ counts against tables worked out by hand from made-up diagnosis results.
 import importlib.util
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -300,7 +301,6 @@ def test_the_documented_top1_figures_are_the_tables_count():
     """The top-1 rate stated in docs/diagnosis.md is counted from its table of
     nameable cases, not carried forward by hand (a hand count once dropped a
     case: 16 of 19 where the table held 20)."""
-    import re
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     rows = _top1_table(text)
     assert len(rows) >= 20
