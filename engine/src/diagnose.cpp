@@ -392,6 +392,34 @@ std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool ow
   return n;
 }
 
+std::string given_note(const EffectResult& r, const std::string& verdict, const DiagnoseOptions& o) {
+  const auto& g = r.given_verdict;
+  if (!g.tested) return {};
+  const std::string with = "with " + verdict + " in the model, ";
+  const bool decided = decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
+  if (g.significant)
+    return with + "significant: fits better (delta chi2 " + fmt(g.delta_chi2, 3) + ", p " + fmt(g.p_value, 2) +
+           ") and predicts held-out gliders " + pct(g.shrink) + " better still";
+  if (!g.bound_pass && g.shrink >= o.min_shrink)
+    return with + "predicts held-out gliders " + pct(g.shrink) + " better, but " + pct(g.bound_share) +
+           " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
+           describe_fold_range(r.effect, g.fold_parameters) + "): not counted";
+  if (!g.lr_pass) return with + "not significant on the training gliders (p " + fmt(g.p_value, 2) + ")";
+  if (!r.rate_mean_pass && decided)
+    return with + "fits and predicts better, but the flights' own rates do not share a direction";
+  if (!g.robust_pass && decided)
+    return with + "fits and predicts better (" + pct(g.shrink) + "), but the gain rests on one glider: without " +
+           g.robust_without + " it is " + pct(g.robust_shrink) + ", and it improves only " +
+           std::to_string(g.gliders_improved) + " of " + std::to_string(g.gliders_total) + " held-out gliders";
+  if (!g.plausible && decided)
+    return with + "fits and predicts better (" + pct(g.shrink) + "), but at an implausible size (" +
+           describe_parameters(r.effect, g.parameters) + ")";
+  if (g.shrink < o.min_shrink)
+    return with + "predicts held-out gliders " + pct(g.shrink) + " better, less than the " + pct(o.min_shrink) +
+           " margin";
+  return with + "held-out improvement within what fitting its strength to noise gives";
+}
+
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain) {
   if (fold_params.size() != fold_gain.size())
@@ -417,6 +445,22 @@ double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_p
     if (edge) at_edge += g;
   }
   return all > 0 ? at_edge / all : 0.0;
+}
+
+HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse, const std::vector<double>& effect_sse,
+                              const std::vector<std::vector<double>>& fold_params, const std::vector<double>& fold_gain,
+                              const DiagnoseOptions& o) {
+  HeldOutGuards h;
+  const auto [rs, rg] = leave_one_glider_out_shrink(baseline_sse, effect_sse);  // checks the sums
+  h.total = static_cast<int>(baseline_sse.size());
+  for (std::size_t g = 0; g < baseline_sse.size(); ++g)
+    if (effect_sse[g] < baseline_sse[g]) ++h.improved;
+  h.robust_shrink = rs;
+  h.robust_without = rg;
+  h.robust_pass = !o.glider_guard || glider_guard_pass(rs, o.min_shrink, h.improved, h.total);
+  h.bound_share = fold_bound_share(e, fold_params, fold_gain);
+  h.bound_pass = !o.bound_guard || h.bound_share <= 0.5;
+  return h;
 }
 
 std::string dominant_glider_sentence(const json& where, const std::vector<EffectResult>& effects) {
@@ -1833,24 +1877,23 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       b_sse.push_back(s0);
       e_sse.push_back(ge[e][g]);
       keys.push_back(g);
-      const double x = (s0 - ge[e][g]) / s2;
-      dg.push_back(x);
-      if (x > 0) ++r.gliders_improved;
+      dg.push_back((s0 - ge[e][g]) / s2);
       const double n = std::max(1, gn[g]);
       r.glider_holdout_rmse_m.push_back({D.gliders()[g].key, std::sqrt(ge[e][g] / n)});
       r.glider_baseline_holdout_rmse_m.push_back({D.gliders()[g].key, std::sqrt(s0 / n)});
     }
-    r.gliders_total = static_cast<int>(dg.size());
     r.glider_t = mean_and_t(dg).t;
-    const auto [rs, rg] = leave_one_glider_out_shrink(b_sse, e_sse);
     glider_sse[e] = e_sse;
-    r.robust_shrink = rs;
-    r.robust_without = rg >= 0 ? D.gliders()[keys[rg]].key : std::string();
-    r.robust_pass = !o.glider_guard || glider_guard_pass(rs, o.min_shrink, r.gliders_improved, r.gliders_total);
+    const HeldOutGuards hg = held_out_guards(E, b_sse, e_sse, fold_params[e], fold_gain[e], o);
+    r.gliders_improved = hg.improved;
+    r.gliders_total = hg.total;
+    r.robust_shrink = hg.robust_shrink;
+    r.robust_without = hg.robust_without >= 0 ? D.gliders()[keys[hg.robust_without]].key : std::string();
+    r.robust_pass = hg.robust_pass;
     r.implausible = describe_implausible(E, r.parameters, limits[e]);
     r.plausible = r.implausible.empty();
-    r.bound_share = fold_bound_share(E, fold_params[e], fold_gain[e]);
-    r.bound_pass = !o.bound_guard || r.bound_share <= 0.5;
+    r.bound_share = hg.bound_share;
+    r.bound_pass = hg.bound_pass;
   }
   // Candidate e refitted from its own linearised step with the centre values
   // on all gliders, from the final all-glider baseline (`label`: the
@@ -2059,9 +2102,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // against the verdict's fit alone by the same three tests (Holm over the
   // rest). Effects that only absorb the same misfit drop out here; a second
   // real effect stays.
+  std::string given_of;  // the effect the second round added the others to
   if (o.second_effect && res.effects[best].significant && ne > 1) {
     const auto t2 = Clock::now();
     const Effect B = o.effects[best];
+    given_of = effect_name(B);
     report("analysis", "second round: every other candidate added to " + effect_name(B), false);
     const auto extra = shared_params_of(B);
     std::vector<int> rest;
@@ -2075,6 +2120,16 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     }
     std::vector<double> sse2_ho(ne, 0.0), dsse2_train(ne, 0.0);
     double sseB_ho = 0, sseB_train = 0;
+    // For the guards (held_out_guards): per candidate, the held-out sums per
+    // glider of the model it is tested against (B's fit; B re-tuned alone
+    // when the folds' re-check is kept) and its own, and each fold's fitted
+    // parameters and held-out gain.
+    auto add_glider_sums = [&](std::map<int, double>& m, const FitOutcome& f) {
+      for (const auto& fl : f.flights) m[D.glider_of(fl.flight)] += fl.sse;
+    };
+    std::vector<std::map<int, double>> gsum_against(ne), gsum2(ne);
+    std::vector<std::vector<std::vector<double>>> fold_params2(ne, std::vector<std::vector<double>>(K));
+    std::vector<std::vector<double>> fold_gain2(ne, std::vector<double>(K, 0.0));
     for (int k = 0; k < K; ++k) {
       const std::string label = fold_label(k) + ", with " + effect_name(B);
       const FitOutcome& bt = fold_trs[k][best];
@@ -2086,9 +2141,12 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       for (int e : rest) {
         if (tr2[e].sse > bt.sse) tr2[e] = bt;
         dsse2_train[e] += bt.sse - tr2[e].sse;
-        sse2_ho[e] += ho_fit_on(tr2[e], bh, fold_test[k], ho_trims,
-                                label + ", " + effect_name(o.effects[e]))
-                          .sse;
+        const FitOutcome ho = ho_fit_on(tr2[e], bh, fold_test[k], ho_trims, label + ", " + effect_name(o.effects[e]));
+        sse2_ho[e] += ho.sse;
+        add_glider_sums(gsum_against[e], bh);
+        add_glider_sums(gsum2[e], ho);
+        fold_params2[e][k] = effect_values(tr2[e].model.effects, o.effects[e]);
+        fold_gain2[e][k] = bh.sse - ho.sse;
       }
     }
     const EffectResult& rb = res.effects[best];
@@ -2173,16 +2231,24 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         const Effect E = o.effects[e];
         if (per_flight(E) || !lr_passes(g) || holdout_passes(g)) continue;
         double cand_ho = 0, alone_ho = 0;
+        std::map<int, double> gs_alone, gs_cand;
+        std::vector<std::vector<double>> fp(K);
+        std::vector<double> gain(K, 0.0);
         for (int k = 0; k < K; ++k) {
           const std::string label = fold_label(k) + ", with " + effect_name(B);
           const Retuned r = retuned_pair(fold_trs[k][best], fold_train[k], e, label);
           const FitOutcome& bh = fold_hos[k][best];
           const auto ho_trims = trims_of(D, fold_test[k], o.trim);
-          const double a = r.moved ? ho_fit_on(r.alone, bh, fold_test[k], ho_trims, label + ", re-tuned alone").sse : bh.sse;
-          cand_ho += r.cand.sse < r.alone.sse
-                         ? ho_fit_on(r.cand, bh, fold_test[k], ho_trims, label + ", " + effect_name(E) + " re-checked").sse
-                         : a;
-          alone_ho += a;
+          const FitOutcome a = r.moved ? ho_fit_on(r.alone, bh, fold_test[k], ho_trims, label + ", re-tuned alone") : bh;
+          const bool adds = r.cand.sse < r.alone.sse;
+          const FitOutcome c =
+              adds ? ho_fit_on(r.cand, bh, fold_test[k], ho_trims, label + ", " + effect_name(E) + " re-checked") : a;
+          cand_ho += c.sse;
+          alone_ho += a.sse;
+          add_glider_sums(gs_alone, a);
+          add_glider_sums(gs_cand, c);
+          fp[k] = adds ? effect_values(r.cand.model.effects, E) : std::vector<double>(effect_spec(E).parameters.size(), 0.0);
+          gain[k] = a.sse - c.sse;
         }
         const double s2_ho_r = std::max(s2, cand_ho / std::max(1.0, dof_ho - dof_ho_of(B) - dof_ho_of(E)));
         const double d = (alone_ho - cand_ho) / s2_ho_r;
@@ -2200,6 +2266,10 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
           g.shrink = shrink;
           g.retuned = true;
           sse2_ho[e] = cand_ho;  // the reverse test's joint prediction
+          gsum_against[e] = std::move(gs_alone);
+          gsum2[e] = std::move(gs_cand);
+          fold_params2[e] = std::move(fp);
+          fold_gain2[e] = std::move(gain);
         }
       }
     // Passed the held-out test, not the likelihood-ratio one, or passed it
@@ -2251,10 +2321,33 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         res.effects[rest[i]].given_verdict.lr_pass = pass[i];
       }
     }
+    // The first round's guards, on the held-out figures kept: a second
+    // effect must not rest on one glider either, nor on folds whose fit ran
+    // to the edge of its range.
+    for (int e : rest) {
+      auto& g = res.effects[e].given_verdict;
+      std::vector<double> against, with;
+      std::vector<int> keys;
+      for (const auto& [gl, s0] : gsum_against[e]) {
+        keys.push_back(gl);
+        against.push_back(s0);
+        const auto it = gsum2[e].find(gl);
+        with.push_back(it == gsum2[e].end() ? s0 : it->second);
+      }
+      const HeldOutGuards hg = held_out_guards(o.effects[e], against, with, fold_params2[e], fold_gain2[e], o);
+      g.gliders_improved = hg.improved;
+      g.gliders_total = hg.total;
+      g.robust_shrink = hg.robust_shrink;
+      g.robust_without = hg.robust_without >= 0 ? D.gliders()[keys[hg.robust_without]].key : std::string();
+      g.robust_pass = hg.robust_pass;
+      g.fold_parameters = fold_params2[e];
+      g.bound_share = hg.bound_share;
+      g.bound_pass = hg.bound_pass;
+    }
     for (int e : rest) {
       auto& g = res.effects[e].given_verdict;
       g.significant = decided(g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold) &&
-                      res.effects[e].rate_mean_pass && g.plausible;
+                      res.effects[e].rate_mean_pass && g.plausible && g.robust_pass && g.bound_pass;
     }
     // The reverse test for each effect of `also`: is the verdict's effect
     // still needed once that one is in the model (joint fit against that
@@ -2293,8 +2386,10 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     timings["second_round_s"] = since(t2);
   }
 
-  for (std::size_t i = 0; i < res.effects.size(); ++i)
+  for (std::size_t i = 0; i < res.effects.size(); ++i) {
     res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
+    res.effects[i].given_verdict.note = given_note(res.effects[i], given_of, o);
+  }
 
   // ------------------------------------------------------------ where
   report("analysis", "where the gap lies");
@@ -2431,10 +2526,21 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         }
         s << (res.also.size() > 1 ? " also explain" : " also explains")
           << " what is left: the flights probably carry more than one effect.";
-      } else if (o.second_effect && others > 0) {
+      }
+      // Candidates that passed the three tests given the verdict's effect
+      // but not a guard: said, since "none improves further" would not hold.
+      int guarded = 0;
+      for (const auto& x : res.effects) {
+        const auto& g = x.given_verdict;
+        if (g.tested && !g.significant && (!g.robust_pass || !g.bound_pass) &&
+            decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold)) {
+          s << " " << x.name << ", " << g.note << ".";
+          ++guarded;
+        }
+      }
+      if (res.also.empty() && guarded == 0 && o.second_effect && others > 0)
         s << " With " << b.name << " in the model none of them improves the prediction further: they explain the "
                                    "same misfit.";
-      }
       if (!b.confusable.empty()) {
         s << " Its signature resembles";
         for (std::size_t i = 0; i < b.confusable.size(); ++i) s << (i ? ", " : " ") << b.confusable[i].first;
@@ -2566,15 +2672,21 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   j["effects"] = json::array();
   for (const auto& e : r.effects) {
     const auto& sp = effect_spec(e.effect);
-    json par, fold = json::array();
+    // Per-fold parameters in reported units, one object per fold.
+    auto fold_json = [&](const std::vector<std::vector<double>>& folds) {
+      json out = json::array();
+      for (const auto& fp : folds) {
+        json x;
+        for (std::size_t i = 0; i < sp.parameters.size() && i < fp.size(); ++i)
+          x[sp.parameters[i].name] = fp[i] * sp.parameters[i].to_report;
+        out.push_back(x);
+      }
+      return out;
+    };
+    json par;
     for (std::size_t i = 0; i < sp.parameters.size(); ++i)
       par[sp.parameters[i].name] = i < e.parameters.size() ? e.parameters[i] * sp.parameters[i].to_report : 0.0;
-    for (const auto& fp : e.fold_parameters) {
-      json x;
-      for (std::size_t i = 0; i < sp.parameters.size() && i < fp.size(); ++i)
-        x[sp.parameters[i].name] = fp[i] * sp.parameters[i].to_report;
-      fold.push_back(x);
-    }
+    const json fold = fold_json(e.fold_parameters);
     json conf = json::array();
     for (const auto& c : e.confusable) conf.push_back({{"effect", c.first}, {"cosine", c.second}});
     j["effects"].push_back({{"name", e.name},
@@ -2627,7 +2739,11 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
           {"cross_validation", {{"delta_chi2", g.holdout_delta_chi2}, {"threshold", g.holdout_threshold}}},
           {"reverse", {{"tested", g.reverse_tested}, {"shrink", g.reverse_shrink}, {"delta_chi2", g.reverse_delta_chi2},
                        {"p_value", g.reverse_p_value}, {"holdout_delta_chi2", g.reverse_holdout_delta_chi2},
-                       {"threshold", g.reverse_threshold}, {"verdict_still_needed", g.verdict_still_needed}}}};
+                       {"threshold", g.reverse_threshold}, {"verdict_still_needed", g.verdict_still_needed}}},
+          {"gliders_improved", g.gliders_improved}, {"gliders_total", g.gliders_total},
+          {"robust_shrink", g.robust_shrink}, {"robust_without", g.robust_without}, {"robust_pass", g.robust_pass},
+          {"fold_parameters", fold_json(g.fold_parameters)}, {"bound_share", g.bound_share},
+          {"bound_pass", g.bound_pass}, {"note", g.note}};
     }
   }
   j["verdict"] = r.verdict;

@@ -471,6 +471,31 @@ def test_second_round_re_checks_only_candidates_one_test_supports(camera_case):
             _chi2_isf(alpha / (looks * len(tested)), k), rel=1e-6), e["name"]
 
 
+def test_second_round_makes_the_first_rounds_guards(camera_case):
+    """Given the verdict's effect every tested candidate gets the first
+    round's two guards: each held-out glider counted, one fitted value set
+    per fold, the shrink without the glider that carries most of it never
+    above the pooled shrink given the verdict, and the bound guard's share a
+    fraction. A candidate significant given the verdict has passed both; the
+    note says which effect it was tested with."""
+    _, j, _, _ = camera_case
+    tested_with = j.get("replaced") or j["verdict"]
+    folds = j["cross_validation"]["folds"]
+    tested = [e for e in j["effects"] if e.get("given_verdict")]
+    assert tested, "the second round did not run: " + j["summary"]
+    for e in tested:
+        g = e["given_verdict"]
+        assert g["gliders_total"] == e["cross_validation"]["gliders"], e["name"]  # as the first round's
+        assert 0 <= g["gliders_improved"] <= g["gliders_total"], e["name"]
+        assert len(g["fold_parameters"]) == folds, e["name"]
+        assert set(g["fold_parameters"][0]) == set(e["parameters"]), e["name"]
+        assert g["robust_shrink"] <= g["shrink"] + 1e-12, e["name"]
+        assert 0.0 <= g["bound_share"] <= 1.0, e["name"]
+        if g["significant"]:
+            assert g["robust_pass"] and g["bound_pass"], e["name"]
+        assert g["note"].startswith("with %s in the model, " % tested_with), g["note"]
+
+
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)

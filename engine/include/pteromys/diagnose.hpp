@@ -405,6 +405,22 @@ struct EffectResult {
     double reverse_holdout_delta_chi2 = 0, reverse_threshold = 0;
     bool verdict_still_needed = true;
     bool reverse_tested = false;  ///< done for effects of `also` and those significant on their own
+    /// The first round's two guards (held_out_guards) on the held-out
+    /// figures kept above (the re-checked ones when `retuned` came from the
+    /// folds, against the verdict's effect re-tuned alone): improved
+    /// gliders, the shrink without the glider that carries most of it, and
+    /// the share of the gain from folds whose fit of this effect (given the
+    /// verdict's) ran to the edge of its range. Failing either, the
+    /// candidate is not significant given the verdict (since 2026-11-30;
+    /// before, the second round made only the three tests).
+    int gliders_improved = 0, gliders_total = 0;
+    double robust_shrink = 0;
+    std::string robust_without;
+    bool robust_pass = true;
+    std::vector<std::vector<double>> fold_parameters;  ///< per fold, given the verdict's (internal units)
+    double bound_share = 0;
+    bool bound_pass = true;
+    std::string note;  ///< plain words: the outcome given the verdict (given_note)
   } given_verdict;
 };
 
@@ -555,6 +571,33 @@ bool glider_guard_pass(double robust_shrink, double margin, int improved, int to
 /// InputError for sizes that differ or non-finite values.
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain);
+
+/// The glider guard and the bound guard of one candidate's held-out figures,
+/// the same in both rounds. `baseline_sse`, `effect_sse`: the held-out sums
+/// of squared residuals per glider (same order) of the model it is tested
+/// against and of the candidate's; `fold_params`, `fold_gain`: each fold's
+/// fitted parameters of effect `e` and held-out gain (fold_bound_share).
+/// A glider is improved when its sum falls. The guards pass when they are
+/// off (DiagnoseOptions::glider_guard, bound_guard), with their figures
+/// still filled in. InputError as the functions it calls.
+struct HeldOutGuards {
+  int improved = 0, total = 0;
+  double robust_shrink = 0;
+  int robust_without = -1;  ///< index into the per-glider sums (-1 with fewer than 2)
+  bool robust_pass = true;
+  double bound_share = 0;
+  bool bound_pass = true;
+};
+HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse, const std::vector<double>& effect_sse,
+                              const std::vector<std::vector<double>>& fold_params, const std::vector<double>& fold_gain,
+                              const DiagnoseOptions& o);
+
+/// The plain-language outcome of one candidate given the verdict's effect
+/// (EffectResult::Given::note; empty when it was not tested): significant
+/// or, in the order the decision goes, what stopped it (the bound guard,
+/// the likelihood-ratio test, the glider guard, plausibility, the margin).
+/// `verdict`: the verdict's effect name.
+std::string given_note(const EffectResult& r, const std::string& verdict, const DiagnoseOptions& o);
 
 /// The plain-language note of one candidate (EffectResult::note): why it is
 /// significant or, in the order the diagnosis decides, what stopped it (the

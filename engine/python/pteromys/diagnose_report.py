@@ -148,7 +148,16 @@ def _tables(r):
         if e.get("strength_held"):
             par += " (held at its theoretical size)"
         g = e.get("given_verdict")
-        given = ("%s further%s" % (_pct(g["shrink"]), ", significant" if g["significant"] else "")) if g else ""
+        given = ""
+        if g:
+            why = ""
+            if g["significant"]:
+                why = ", significant"
+            elif g.get("robust_pass") is False:
+                why = ", rests on one glider"
+            elif g.get("bound_pass") is False:
+                why = ", folds at the range's edge"
+            given = "%s further%s" % (_pct(g["shrink"]), why)
         cv = e.get("cross_validation", {})
         gliders = ""
         if "gliders" in cv:
