@@ -463,6 +463,26 @@ HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse,
   return h;
 }
 
+std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict) {
+  if (verdict == "none" || verdict == effect_name(Effect::LaunchRotation)) return {};
+  for (const auto& r : effects) {
+    if (r.effect != Effect::LaunchRotation || !r.lr_pass || r.significant) continue;
+    std::string s = " " + r.name + (verdict == "unexplained" ? "" : " also") +
+                    " fits the training flights significantly better (p " + fmt(r.p_value, 2) + "; " +
+                    describe_parameters(r.effect, r.parameters) + ") but closes only " + pct(r.shrink) +
+                    " of the held-out error";
+    if (verdict == "unexplained")
+      s += ": the gap may lie in the launches (a rotation at release that the five fitted launch values do not "
+           "take up).";
+    else
+      s += ". A launch effect the model leaves out may be behind the verdict: on blind launch-rotation data a "
+           "correction applied to every flight took the verdict this way (docs/diagnosis.md, Limits). Check how "
+           "the gliders were launched before taking " + verdict + " as the cause.";
+    return s;
+  }
+  return {};
+}
+
 std::string dominant_glider_sentence(const json& where, const std::vector<EffectResult>& effects) {
   if (!where.contains("gliders") || !where.contains("all")) return {};
   const double all = where["all"].value("excess_m2", 0.0);
@@ -2562,6 +2582,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // candidate predicts better (blind finite-span data: the canard, 4.9 cm
     // held out, 13 times the noise, with every candidate): the gap is the
     // model's carrying over to that geometry, not an effect of all flights.
+    s << launch_caution(res.effects, res.verdict);
     if (res.verdict != "none") s << dominant_glider_sentence(res.where, res.effects);
     if (res.where["whiteness"]["structured"].get<bool>() && res.verdict != "none")
       s << " The baseline's residuals drift systematically along each flight rather than scattering like noise.";

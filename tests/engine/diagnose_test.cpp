@@ -1485,6 +1485,45 @@ TEST(DiagnoseStatistics, TheSecondRoundsNoteSaysWhatDecidedGivenTheVerdict) {
   EXPECT_NE(n.find("2.0 % better, less than the 5.0 % margin"), std::string::npos) << n;
 }
 
+// The summary's launch caution (launch_caution): launch rotation passed its
+// likelihood-ratio test but is not significant, and the verdict is another
+// effect or `unexplained`. Figures of blind launch rotation s34 (the
+// verdict wind; launch rotation p 3e-13, 63.8 deg/s, 1.65 % held out, "1.7 %") and
+// s32 (`unexplained`). Nothing when it did not pass the test, when it is
+// itself significant or the verdict, or for `none`.
+TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerdict) {
+  EffectResult lr;
+  lr.effect = Effect::LaunchRotation;
+  lr.name = effect_name(Effect::LaunchRotation);
+  lr.lr_pass = true;
+  lr.p_value = 3e-13;
+  lr.parameters = {deg2rad(63.8)};
+  lr.shrink = 0.0165;
+  EffectResult wind;
+  wind.effect = Effect::Wind;
+  wind.name = "wind";
+  wind.significant = true;
+  wind.lr_pass = true;
+  const std::vector<EffectResult> both = {wind, lr};
+  std::string s = launch_caution(both, "wind");
+  EXPECT_EQ(s.rfind(" launch_rotation also fits the training flights significantly better (p 3e-13; ", 0), 0u) << s;
+  EXPECT_NE(s.find("63.8"), std::string::npos) << s;
+  EXPECT_NE(s.find("closes only 1.7 % of the held-out error"), std::string::npos) << s;  // 1.65 % to one decimal
+  EXPECT_NE(s.find("before taking wind as the cause"), std::string::npos) << s;
+  s = launch_caution(both, "unexplained");
+  EXPECT_EQ(s.rfind(" launch_rotation fits the training flights", 0), 0u) << s;
+  EXPECT_NE(s.find("the gap may lie in the launches"), std::string::npos) << s;
+  EXPECT_EQ(launch_caution(both, "none"), "");
+  EXPECT_EQ(launch_caution(both, "launch_rotation"), "");
+  std::vector<EffectResult> v = both;
+  v[1].lr_pass = false;
+  EXPECT_EQ(launch_caution(v, "wind"), "");
+  v[1].lr_pass = true;
+  v[1].significant = true;
+  EXPECT_EQ(launch_caution(v, "wind"), "");
+  EXPECT_EQ(launch_caution({wind}, "wind"), "");
+}
+
 // A linearised step that overshoots is given up after its first fit and
 // damped (kGiveUpFactor, kStepFractions in src/diagnose.cpp): with a 2 m/s
 // head wind (2 mm noise) the linearisation on all gliders points far past
