@@ -297,6 +297,32 @@ def _top1_table(text):
     return rows
 
 
+def test_the_documented_oracle_ratio_is_the_tables_count():
+    """The shrink-against-the-oracle figure stated in docs/diagnosis.md is
+    counted from the top-1 table: of the cases whose verdict is the true
+    effect, how many reach 70 % of their oracle's shrink, and the median."""
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    lines = text.splitlines()
+    head = lines.index("| case | oracle | verdict | true effect's shrink | commit |")
+    ratios = []
+    for line in lines[head + 2:]:
+        if not line.startswith("|"):
+            break
+        case, oracle, verdict, shrink = [c.strip() for c in line.strip("|").split("|")][:4]
+        if verdict == case.split("-")[0]:
+            num = lambda x: float(x.rstrip(" %").replace("\u2212", "-"))
+            ratios.append(num(shrink) / num(oracle))
+    stated = re.search(r"\*\*Shrink against the oracle: (\d+) of (\d+) named cases at ≥ 70 % of the\s+"
+                       r"oracle's \(median ([0-9.]+)\)\.\*\*", text)
+    assert stated, "the oracle-ratio line is missing"
+    # The stated share is of cases whose ratio, to the table's rounding, is at least 0.70.
+    assert (int(stated.group(1)), int(stated.group(2))) == (sum(1 for r in ratios if r >= 0.70), len(ratios))
+    ratios.sort()
+    n = len(ratios)
+    median = ratios[n // 2] if n % 2 else (ratios[n // 2 - 1] + ratios[n // 2]) / 2
+    assert float(stated.group(3)) == pytest.approx(median, abs=0.005)
+
+
 def test_the_documented_top1_figures_are_the_tables_count():
     """The top-1 rate stated in docs/diagnosis.md is counted from its table of
     nameable cases, not carried forward by hand (a hand count once dropped a
