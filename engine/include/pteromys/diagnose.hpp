@@ -75,7 +75,8 @@ struct DiagnoseOptions {
   /// the baseline closed 3.7 %. A true effect that shows most on one geometry
   /// still passes when it helps most gliders (3 of 3 on the per-flight
   /// launch-rotation test data, where the canard carries it: 8.0 %, 2.2 %
-  /// without the canard).
+  /// without the canard). Made in the second round too, given the
+  /// verdict's effect (EffectResult::Given::robust_pass; since 2026-11-30).
   bool glider_guard = true;
   /// The bound guard: a candidate more than half of whose held-out gain
   /// comes from folds whose fit ran to the outer tenth of its range
@@ -83,7 +84,8 @@ struct DiagnoseOptions {
   /// nor taken for a held-out-led step: the training fits do not agree on a
   /// size of the effect, they turn its shape as far as it goes (blind pitch
   /// damping at 1, seed 26: added mass at 0, 2.88, 3.00, 3.00 of 3 in the
-  /// folds, 0.22 on all gliders, held-out shrink 6.1 %).
+  /// folds, 0.22 on all gliders, held-out shrink 6.1 %). Made in the
+  /// second round too (EffectResult::Given::bound_pass).
   bool bound_guard = true;
   /// The identifiability preference (prefer_identifiable): when the best
   /// significant effect is indistinguishable from re-tuned coefficients and a
