@@ -463,14 +463,14 @@ HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse,
   return h;
 }
 
-std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict) {
+std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin) {
   if (verdict == "none" || verdict == effect_name(Effect::LaunchRotation)) return {};
   for (const auto& r : effects) {
     if (r.effect != Effect::LaunchRotation || !r.lr_pass || r.significant) continue;
     std::string s = " " + r.name + (verdict == "unexplained" ? "" : " also") +
                     " fits the training flights significantly better (p " + fmt(r.p_value, 2) + "; " +
-                    describe_parameters(r.effect, r.parameters) + ") but closes only " + pct(r.shrink) +
-                    " of the held-out error";
+                    describe_parameters(r.effect, r.parameters) + ") but closes " +
+                    (r.shrink < margin ? "only " : "") + pct(r.shrink) + " of the held-out error";
     if (verdict == "unexplained")
       s += ": the gap may lie in the launches (a rotation at release that the five fitted launch values do not "
            "take up).";
@@ -2549,9 +2549,15 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       }
       // Candidates that passed the three tests given the verdict's effect
       // but not a guard: said, since "none improves further" would not hold.
+      // Not after a replacement (they were tested against the replaced
+      // verdict), nor for an alternative (the sentence on alternatives says
+      // what holds for it: with either in the model the other adds nothing
+      // that survives the guards).
       int guarded = 0;
       for (const auto& x : res.effects) {
         const auto& g = x.given_verdict;
+        if (!res.replaced.empty()) break;
+        if (std::find(res.alternatives.begin(), res.alternatives.end(), x.name) != res.alternatives.end()) continue;
         if (g.tested && !g.significant && (!g.robust_pass || !g.bound_pass) &&
             decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold)) {
           s << " " << x.name << ", " << g.note << ".";
@@ -2562,7 +2568,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         s << " With " << b.name << " in the model none of them improves the prediction further: they explain the "
                                    "same misfit.";
       if (!b.confusable.empty()) {
-        s << " Its signature resembles";
+        s << " " << b.name << "'s signature resembles";
         for (std::size_t i = 0; i < b.confusable.size(); ++i) s << (i ? ", " : " ") << b.confusable[i].first;
         if (res.passed_over.empty()) s << ", which fit" << (b.confusable.size() > 1 ? "" : "s") << " less well here.";
         else s << ".";
@@ -2582,7 +2588,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // candidate predicts better (blind finite-span data: the canard, 4.9 cm
     // held out, 13 times the noise, with every candidate): the gap is the
     // model's carrying over to that geometry, not an effect of all flights.
-    s << launch_caution(res.effects, res.verdict);
+    s << launch_caution(res.effects, res.verdict, o.min_shrink);
     if (res.verdict != "none") s << dominant_glider_sentence(res.where, res.effects);
     if (res.where["whiteness"]["structured"].get<bool>() && res.verdict != "none")
       s << " The baseline's residuals drift systematically along each flight rather than scattering like noise.";

@@ -1505,23 +1505,28 @@ TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerd
   wind.significant = true;
   wind.lr_pass = true;
   const std::vector<EffectResult> both = {wind, lr};
-  std::string s = launch_caution(both, "wind");
+  std::string s = launch_caution(both, "wind", 0.05);
   EXPECT_EQ(s.rfind(" launch_rotation also fits the training flights significantly better (p 3e-13; ", 0), 0u) << s;
   EXPECT_NE(s.find("63.8"), std::string::npos) << s;
   EXPECT_NE(s.find("closes only 1.7 % of the held-out error"), std::string::npos) << s;  // 1.65 % to one decimal
   EXPECT_NE(s.find("before taking wind as the cause"), std::string::npos) << s;
-  s = launch_caution(both, "unexplained");
+  s = launch_caution(both, "unexplained", 0.05);
   EXPECT_EQ(s.rfind(" launch_rotation fits the training flights", 0), 0u) << s;
   EXPECT_NE(s.find("the gap may lie in the launches"), std::string::npos) << s;
-  EXPECT_EQ(launch_caution(both, "none"), "");
-  EXPECT_EQ(launch_caution(both, "launch_rotation"), "");
+  EXPECT_EQ(launch_caution(both, "none", 0.05), "");
+  EXPECT_EQ(launch_caution(both, "launch_rotation", 0.05), "");
   std::vector<EffectResult> v = both;
   v[1].lr_pass = false;
-  EXPECT_EQ(launch_caution(v, "wind"), "");
+  EXPECT_EQ(launch_caution(v, "wind", 0.05), "");
   v[1].lr_pass = true;
   v[1].significant = true;
-  EXPECT_EQ(launch_caution(v, "wind"), "");
-  EXPECT_EQ(launch_caution({wind}, "wind"), "");
+  EXPECT_EQ(launch_caution(v, "wind", 0.05), "");
+  EXPECT_EQ(launch_caution({wind}, "wind", 0.05), "");
+  // At or above the margin (stopped by something else) it is not "only".
+  v[1].significant = false;
+  v[1].shrink = 0.062;
+  s = launch_caution(v, "wind", 0.05);
+  EXPECT_NE(s.find("but closes 6.2 % of the held-out error"), std::string::npos) << s;
 }
 
 // A linearised step that overshoots is given up after its first fit and

@@ -547,8 +547,9 @@ std::string dominant_glider_sentence(const nlohmann::json& where, const std::vec
 /// test passed on 3 of the 5 launch-rotation datasets and in none of the
 /// 39 other runs (single effects, nulls, a two-effect case), while twice a
 /// correction applied to every flight took the verdict there (camera s33,
-/// wind s34): a hint for the person, not a decision.
-std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict);
+/// wind s34): a hint for the person, not a decision. `margin`: the shrink
+/// margin (DiagnoseOptions::min_shrink); a shrink below it is "only".
+std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin);
 
 /// Shrink of a pooled held-out error with one glider left out: for each
 /// glider g, 1 - sqrt((sum(effect) - effect[g]) / (sum(baseline) -
@@ -608,8 +609,10 @@ HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse,
 /// The plain-language outcome of one candidate given the verdict's effect
 /// (EffectResult::Given::note; empty when it was not tested): significant
 /// or, in the order the decision goes, what stopped it (the bound guard,
-/// the likelihood-ratio test, the glider guard, plausibility, the margin).
-/// `verdict`: the verdict's effect name.
+/// the likelihood-ratio test, the launch rates' direction, the glider
+/// guard, plausibility, the margin). `verdict`: the name of the effect the
+/// second round added it to (the first round's verdict, also when the
+/// second round replaced it).
 std::string given_note(const EffectResult& r, const std::string& verdict, const DiagnoseOptions& o);
 
 /// The plain-language note of one candidate (EffectResult::note): why it is

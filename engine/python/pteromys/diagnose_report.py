@@ -151,12 +151,19 @@ def _tables(r):
         given = ""
         if g:
             why = ""
+            # A guard is the reason only for a candidate that passed the
+            # three tests given the verdict (the bound guard is checked first,
+            # as in the note).
+            cvg = g.get("cross_validation", {})
+            tests = (g.get("likelihood_ratio", {}).get("pass", False)
+                     and g["shrink"] >= r.get("options", {}).get("min_shrink", 0.05)
+                     and cvg.get("delta_chi2", 0.0) > cvg.get("threshold", float("inf")))
             if g["significant"]:
                 why = ", significant"
-            elif g.get("robust_pass") is False:
-                why = ", rests on one glider"
-            elif g.get("bound_pass") is False:
+            elif tests and g.get("bound_pass") is False:
                 why = ", folds at the range's edge"
+            elif tests and g.get("robust_pass") is False:
+                why = ", rests on one glider"
             given = "%s further%s" % (_pct(g["shrink"]), why)
         cv = e.get("cross_validation", {})
         gliders = ""
