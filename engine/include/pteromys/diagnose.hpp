@@ -545,7 +545,7 @@ std::string dominant_glider_sentence(const nlohmann::json& where, const std::vec
 /// `unexplained`; empty for `none`, for the launch rotation verdict, and
 /// when it did not pass). On the blind results stored for seeds 25-35 its
 /// test passed on 3 of the 5 launch-rotation datasets and in none of the
-/// 39 other runs (single effects, nulls, a two-effect case), while twice a
+/// 43 other runs (single effects, nulls, a two-effect case), while twice a
 /// correction applied to every flight took the verdict there (camera s33,
 /// wind s34): a hint for the person, not a decision. `margin`: the shrink
 /// margin (DiagnoseOptions::min_shrink); a shrink below it is "only".
