@@ -12,6 +12,7 @@ import importlib.util
 import json
 import os
 import re
+import statistics
 import subprocess
 import sys
 
@@ -285,15 +286,17 @@ def test_rule_replay_recomputes_the_bound_guard_from_stored_per_glider_figures(t
 
 
 def _top1_table(text):
-    """The rows of docs/diagnosis.md's top-1 table: (case, oracle %, verdict)."""
+    """The rows of docs/diagnosis.md's top-1 table: (case, oracle %, verdict,
+    the true effect's shrink %)."""
     lines = text.splitlines()
     head = lines.index("| case | oracle | verdict | true effect's shrink | commit |")
+    percent = lambda x: float(x.rstrip(" %").replace("\u2212", "-"))  # the docs write a minus sign
     rows = []
     for line in lines[head + 2:]:
         if not line.startswith("|"):
             break
         cells = [c.strip() for c in line.strip("|").split("|")]
-        rows.append((cells[0], float(cells[1].rstrip(" %")), cells[2]))
+        rows.append((cells[0], percent(cells[1]), cells[2], percent(cells[3])))
     return rows
 
 
@@ -302,25 +305,14 @@ def test_the_documented_oracle_ratio_is_the_tables_count():
     counted from the top-1 table: of the cases whose verdict is the true
     effect, how many reach 70 % of their oracle's shrink, and the median."""
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
-    lines = text.splitlines()
-    head = lines.index("| case | oracle | verdict | true effect's shrink | commit |")
-    ratios = []
-    for line in lines[head + 2:]:
-        if not line.startswith("|"):
-            break
-        case, oracle, verdict, shrink = [c.strip() for c in line.strip("|").split("|")][:4]
-        if verdict == case.split("-")[0]:
-            num = lambda x: float(x.rstrip(" %").replace("\u2212", "-"))
-            ratios.append(num(shrink) / num(oracle))
+    ratios = [shrink / oracle for case, oracle, verdict, shrink in _top1_table(text)
+              if verdict == case.split("-")[0]]
     stated = re.search(r"\*\*Shrink against the oracle: (\d+) of (\d+) named cases at ≥ 70 % of the\s+"
                        r"oracle's \(median ([0-9.]+)\)\.\*\*", text)
     assert stated, "the oracle-ratio line is missing"
     # The stated share is of cases whose ratio, to the table's rounding, is at least 0.70.
     assert (int(stated.group(1)), int(stated.group(2))) == (sum(1 for r in ratios if r >= 0.70), len(ratios))
-    ratios.sort()
-    n = len(ratios)
-    median = ratios[n // 2] if n % 2 else (ratios[n // 2 - 1] + ratios[n // 2]) / 2
-    assert float(stated.group(3)) == pytest.approx(median, abs=0.005)
+    assert float(stated.group(3)) == pytest.approx(statistics.median(ratios), abs=0.005)
 
 
 def test_the_documented_top1_figures_are_the_tables_count():
@@ -332,12 +324,12 @@ def test_the_documented_top1_figures_are_the_tables_count():
     assert len(rows) >= 20
     names = [r[0] for r in rows]
     assert len(set(names)) == len(names), "a case is listed twice"
-    for case, oracle, verdict in rows:
+    for case, oracle, verdict, _ in rows:
         effect = case.split("-")[0]
         assert effect in rb.EFFECTS, case
         assert case.split("-")[1] == "1", case + ": the count is of strength 1"
         assert oracle >= 5.0, case + ": its oracle does not close the 5 % margin, it is not nameable"
-    hits = sum(1 for case, _, verdict in rows if verdict == case.split("-")[0])
+    hits = sum(1 for case, _, verdict, _ in rows if verdict == case.split("-")[0])
     n = len(rows)
     stated = re.search(r"\*\*Top-1: (\d+) of (\d+) \((\d+) %\)\.\*\*", text)
     assert stated, "the table's count line is missing"
