@@ -420,6 +420,13 @@ std::string given_note(const EffectResult& r, const std::string& verdict, const 
   return with + "held-out improvement within what fitting its strength to noise gives";
 }
 
+std::string given_stopped_by(const EffectResult::Given& g, const DiagnoseOptions& o) {
+  if (!g.tested || g.significant || (g.robust_pass && g.bound_pass) ||
+      !decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold))
+    return {};
+  return g.bound_pass ? "glider" : "bound";
+}
+
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain) {
   if (fold_params.size() != fold_gain.size())
@@ -2409,6 +2416,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   for (std::size_t i = 0; i < res.effects.size(); ++i) {
     res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
     res.effects[i].given_verdict.note = given_note(res.effects[i], given_of, o);
+    res.effects[i].given_verdict.stopped_by_guard = given_stopped_by(res.effects[i].given_verdict, o);
   }
 
   // ------------------------------------------------------------ where
@@ -2554,16 +2562,13 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       // what holds for it: with either in the model the other adds nothing
       // that survives the guards).
       int guarded = 0;
-      for (const auto& x : res.effects) {
-        const auto& g = x.given_verdict;
-        if (!res.replaced.empty()) break;
-        if (std::find(res.alternatives.begin(), res.alternatives.end(), x.name) != res.alternatives.end()) continue;
-        if (g.tested && !g.significant && (!g.robust_pass || !g.bound_pass) &&
-            decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold)) {
-          s << " " << x.name << ", " << g.note << ".";
-          ++guarded;
-        }
-      }
+      if (res.replaced.empty())
+        for (const auto& x : res.effects)
+          if (!x.given_verdict.stopped_by_guard.empty() &&
+              std::find(res.alternatives.begin(), res.alternatives.end(), x.name) == res.alternatives.end()) {
+            s << " " << x.name << ", " << x.given_verdict.note << ".";
+            ++guarded;
+          }
       if (res.also.empty() && guarded == 0 && o.second_effect && others > 0)
         s << " With " << b.name << " in the model none of them improves the prediction further: they explain the "
                                    "same misfit.";
@@ -2770,7 +2775,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
           {"gliders_improved", g.gliders_improved}, {"gliders_total", g.gliders_total},
           {"robust_shrink", g.robust_shrink}, {"robust_without", g.robust_without}, {"robust_pass", g.robust_pass},
           {"fold_parameters", fold_json(g.fold_parameters)}, {"bound_share", g.bound_share},
-          {"bound_pass", g.bound_pass}, {"note", g.note}};
+          {"bound_pass", g.bound_pass}, {"note", g.note}, {"stopped_by_guard", g.stopped_by_guard}};
     }
   }
   j["verdict"] = r.verdict;

@@ -1485,6 +1485,43 @@ TEST(DiagnoseStatistics, TheSecondRoundsNoteSaysWhatDecidedGivenTheVerdict) {
   EXPECT_NE(n.find("2.0 % better, less than the 5.0 % margin"), std::string::npos) << n;
 }
 
+// Which guard alone stopped a candidate given the verdict
+// (given_stopped_by): only one the three tests passed and that is not
+// significant; the bound guard named first, as in the note. With the
+// held-out chi-square test switched off (--no-holdout-test) a held-out
+// delta chi2 under its quantile no longer keeps the guard from being the
+// reason.
+TEST(DiagnoseStatistics, TheGuardThatStoppedASecondEffectIsNamedOnlyWhenTheTestsPassed) {
+  DiagnoseOptions o;
+  EffectResult::Given g;
+  EXPECT_EQ(given_stopped_by(g, o), "");  // not tested
+  g.tested = true;
+  g.lr_pass = true;
+  g.shrink = 0.096;
+  g.holdout_delta_chi2 = 512;
+  g.holdout_threshold = 11.7;
+  g.robust_pass = false;  // pitch damping given the wind, s42: 4.6 % without t09, 5 of 8
+  EXPECT_EQ(given_stopped_by(g, o), "glider");
+  g.bound_pass = false;
+  EXPECT_EQ(given_stopped_by(g, o), "bound");
+  g.significant = true;  // significant: nothing stopped it
+  EXPECT_EQ(given_stopped_by(g, o), "");
+  g.significant = false;
+  g.robust_pass = g.bound_pass = true;  // both guards passed: something else stopped it
+  EXPECT_EQ(given_stopped_by(g, o), "");
+  g.robust_pass = false;
+  g.lr_pass = false;  // a test failed: that is the reason, not the guard
+  EXPECT_EQ(given_stopped_by(g, o), "");
+  g.lr_pass = true;
+  g.shrink = 0.03;
+  EXPECT_EQ(given_stopped_by(g, o), "");
+  g.shrink = 0.096;
+  g.holdout_delta_chi2 = 5;
+  EXPECT_EQ(given_stopped_by(g, o), "");
+  o.holdout_chi2_test = false;
+  EXPECT_EQ(given_stopped_by(g, o), "glider");
+}
+
 // The summary's launch caution (launch_caution): launch rotation passed its
 // likelihood-ratio test but is not significant, and the verdict is another
 // effect or `unexplained`. Figures of blind launch rotation s34 (the

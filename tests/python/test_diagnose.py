@@ -493,6 +493,12 @@ def test_second_round_makes_the_first_rounds_guards(camera_case):
         assert 0.0 <= g["bound_share"] <= 1.0, e["name"]
         if g["significant"]:
             assert g["robust_pass"] and g["bound_pass"], e["name"]
+        # the guard named as having stopped it failed, and it is not significant
+        assert g["stopped_by_guard"] in ("", "bound", "glider"), e["name"]
+        if g["stopped_by_guard"] == "bound":
+            assert not g["bound_pass"] and not g["significant"], e["name"]
+        if g["stopped_by_guard"] == "glider":
+            assert not g["robust_pass"] and g["bound_pass"] and not g["significant"], e["name"]
         assert g["note"].startswith("with %s in the model, " % tested_with), g["note"]
 
 

@@ -423,6 +423,10 @@ struct EffectResult {
     double bound_share = 0;
     bool bound_pass = true;
     std::string note;  ///< plain words: the outcome given the verdict (given_note)
+    /// "bound" or "glider" when the three tests given the verdict passed but
+    /// that guard failed and the candidate is not significant (the bound
+    /// guard named first, as in the note); empty otherwise (given_stopped_by).
+    std::string stopped_by_guard;
   } given_verdict;
 };
 
@@ -614,6 +618,12 @@ HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse,
 /// second round added it to (the first round's verdict, also when the
 /// second round replaced it).
 std::string given_note(const EffectResult& r, const std::string& verdict, const DiagnoseOptions& o);
+
+/// EffectResult::Given::stopped_by_guard: "bound" or "glider" for a
+/// candidate the three tests given the verdict passed (decision rule) but
+/// that guard stopped; empty when it was not tested, is significant, failed
+/// a test, or passed both guards.
+std::string given_stopped_by(const EffectResult::Given& g, const DiagnoseOptions& o);
 
 /// The plain-language note of one candidate (EffectResult::note): why it is
 /// significant or, in the order the diagnosis decides, what stopped it (the

@@ -150,20 +150,12 @@ def _tables(r):
         g = e.get("given_verdict")
         given = ""
         if g:
-            why = ""
-            # A guard is the reason only for a candidate that passed the
-            # three tests given the verdict (the bound guard is checked first,
-            # as in the note).
-            cvg = g.get("cross_validation", {})
-            tests = (g.get("likelihood_ratio", {}).get("pass", False)
-                     and g["shrink"] >= r.get("options", {}).get("min_shrink", 0.05)
-                     and cvg.get("delta_chi2", 0.0) > cvg.get("threshold", float("inf")))
+            # A guard is the reason only where the engine says it stopped a
+            # candidate the three tests passed (stopped_by_guard).
+            why = {"bound": ", folds at the range's edge",
+                   "glider": ", rests on one glider"}.get(g.get("stopped_by_guard", ""), "")
             if g["significant"]:
                 why = ", significant"
-            elif tests and g.get("bound_pass") is False:
-                why = ", folds at the range's edge"
-            elif tests and g.get("robust_pass") is False:
-                why = ", rests on one glider"
             given = "%s further%s" % (_pct(g["shrink"]), why)
         cv = e.get("cross_validation", {})
         gliders = ""
