@@ -470,10 +470,12 @@ HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse,
   return h;
 }
 
-std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin) {
+std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin,
+                           double alpha) {
   if (verdict == "none" || verdict == effect_name(Effect::LaunchRotation)) return {};
   for (const auto& r : effects) {
     if (r.effect != Effect::LaunchRotation || !r.lr_pass || r.significant) continue;
+    if (r.rate_test && !(r.rate_mean_p < alpha)) continue;  // rates scattered both ways: no launcher's rotation
     std::string s = " " + r.name + (verdict == "unexplained" ? "" : " also") +
                     " fits the training flights significantly better (p " + fmt(r.p_value, 2) + "; " +
                     describe_parameters(r.effect, r.parameters) + ") but closes " +
@@ -1412,7 +1414,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // with what they do alone) and predicted the held-out gliders worse
     // (blind pitch damping at 1, seed 34, fold 4: 1.8 -> 2.3 cm), which
     // inflates every other candidate's shrink.
-    if (profiled && base.model.coefficients != before.model.coefficients) {
+    if (o.refit_unstepped && profiled && base.model.coefficients != before.model.coefficients) {
       const auto trims = trims_of(D, flights, o.trim);
       for (int e = 0; e < ne; ++e) {
         const Effect E = o.effects[e];
@@ -2633,7 +2635,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // candidate predicts better (blind finite-span data: the canard, 4.9 cm
     // held out, 13 times the noise, with every candidate): the gap is the
     // model's carrying over to that geometry, not an effect of all flights.
-    s << launch_caution(res.effects, res.verdict, o.min_shrink);
+    s << launch_caution(res.effects, res.verdict, o.min_shrink, o.alpha);
     if (res.verdict != "none") s << dominant_glider_sentence(res.where, res.effects);
     if (res.where["whiteness"]["structured"].get<bool>() && res.verdict != "none")
       s << " The baseline's residuals drift systematically along each flight rather than scattering like noise.";
@@ -2888,6 +2890,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"hold_theory", o.hold_theory},
                   {"escalate", o.escalate},
                   {"step_per_flight", o.step_per_flight},
+                  {"refit_unstepped", o.refit_unstepped},
                   {"step_alpha", o.step_level()},
                   {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
                   {"second_effect", o.second_effect}};

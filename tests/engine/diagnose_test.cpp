@@ -143,10 +143,15 @@ DiagnoseOptions profiled_diagnosis(std::vector<Effect> effects) {
 
 /// The same diagnosis with no candidate refitted from its linearised step
 /// and no steps carried into the folds: every fit of a candidate starts at
-/// strength 0 (or, with theory_starts, also at its theoretical size).
+/// strength 0 (or, with theory_starts, also at its theoretical size) at the
+/// centre values from before the baseline's step, and is not refitted at
+/// the baseline's final ones (refit_unstepped: with it, finite span on the
+/// flights of AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes is found
+/// by the first search, 20 % held out).
 DiagnoseOptions unstepped(DiagnoseOptions o) {
   o.profiled_candidates = 0;
   o.carry_steps = false;
+  o.refit_unstepped = false;
   return o;
 }
 
@@ -1570,34 +1575,44 @@ TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerd
   lr.p_value = 3e-13;
   lr.parameters = {deg2rad(63.8)};
   lr.shrink = 0.0165;
+  lr.rate_test = true;  // per-flight rates whose mean the t-test puts at p 0.0021 (s34)
+  lr.rate_mean_p = 0.0021;
   EffectResult wind;
   wind.effect = Effect::Wind;
   wind.name = "wind";
   wind.significant = true;
   wind.lr_pass = true;
   const std::vector<EffectResult> both = {wind, lr};
-  std::string s = launch_caution(both, "wind", 0.05);
+  std::string s = launch_caution(both, "wind", 0.05, 0.01);
   EXPECT_EQ(s.rfind(" launch_rotation also fits the training flights significantly better (p 3e-13; ", 0), 0u) << s;
   EXPECT_NE(s.find("63.8"), std::string::npos) << s;
   EXPECT_NE(s.find("closes only 1.7 % of the held-out error"), std::string::npos) << s;  // 1.65 % to one decimal
   EXPECT_NE(s.find("before taking wind as the cause"), std::string::npos) << s;
-  s = launch_caution(both, "unexplained", 0.05);
+  s = launch_caution(both, "unexplained", 0.05, 0.01);
   EXPECT_EQ(s.rfind(" launch_rotation fits the training flights", 0), 0u) << s;
   EXPECT_NE(s.find("the gap may lie in the launches"), std::string::npos) << s;
-  EXPECT_EQ(launch_caution(both, "none", 0.05), "");
-  EXPECT_EQ(launch_caution(both, "launch_rotation", 0.05), "");
+  EXPECT_EQ(launch_caution(both, "none", 0.05, 0.01), "");
+  EXPECT_EQ(launch_caution(both, "launch_rotation", 0.05, 0.01), "");
   std::vector<EffectResult> v = both;
   v[1].lr_pass = false;
-  EXPECT_EQ(launch_caution(v, "wind", 0.05), "");
+  EXPECT_EQ(launch_caution(v, "wind", 0.05, 0.01), "");
   v[1].lr_pass = true;
   v[1].significant = true;
-  EXPECT_EQ(launch_caution(v, "wind", 0.05), "");
-  EXPECT_EQ(launch_caution({wind}, "wind", 0.05), "");
+  EXPECT_EQ(launch_caution(v, "wind", 0.05, 0.01), "");
+  EXPECT_EQ(launch_caution({wind}, "wind", 0.05, 0.01), "");
   // At or above the margin (stopped by something else) it is not "only".
   v[1].significant = false;
   v[1].shrink = 0.062;
-  s = launch_caution(v, "wind", 0.05);
+  s = launch_caution(v, "wind", 0.05, 0.01);
   EXPECT_NE(s.find("but closes 6.2 % of the held-out error"), std::string::npos) << s;
+  // Per-flight rates scattered both ways (mean's p over alpha) are no
+  // launcher's rotation: no caution (pitch damping s34: p 0.45); a shared
+  // rate (no per-flight rates, no rate test) is not asked for a direction.
+  v[1].rate_mean_p = 0.45;
+  EXPECT_EQ(launch_caution(v, "wind", 0.05, 0.01), "");
+  EXPECT_EQ(launch_caution(v, "unexplained", 0.05, 0.01), "");
+  v[1].rate_test = false;
+  EXPECT_NE(launch_caution(v, "wind", 0.05, 0.01), "");
 }
 
 // A linearised step that overshoots is given up after its first fit and

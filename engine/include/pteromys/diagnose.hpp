@@ -247,6 +247,13 @@ struct DiagnoseOptions {
   /// on seed 26, 1.6 -> 4.4 % on seed 24, their oracles 4.5 and 6.0 %;
   /// docs/diagnosis.md).
   bool step_per_flight = false;
+  /// Profiled fits: a candidate fitted at the centre values from before the
+  /// baseline's own step whose gain over them passes the likelihood-ratio
+  /// threshold is fitted again at the baseline's final centre values, the
+  /// better fit kept, so that it nests the baseline it is tested against
+  /// (docs/diagnosis.md, "An unstepped candidate is refitted..."). Off only
+  /// to reproduce the search without it.
+  bool refit_unstepped = true;
   /// launch_rotation as a launch parameter: every flight's pitch rate at its
   /// first tracked point is fitted (one more launch value per flight, on
   /// training and held-out gliders; its tests count one degree of freedom per
@@ -553,7 +560,14 @@ std::string dominant_glider_sentence(const nlohmann::json& where, const std::vec
 /// correction applied to every flight took the verdict there (camera s33,
 /// wind s34): a hint for the person, not a decision. `margin`: the shrink
 /// margin (DiagnoseOptions::min_shrink); a shrink below it is "only".
-std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin);
+/// Per-flight rates must also share a direction: their mean's t-test p
+/// below `alpha` (DiagnoseOptions::alpha, no multiplicity correction for a
+/// hint). Free per-flight rates also take up other misfits of the launch
+/// transient, scattered both ways (blind pitch damping at 1, seed 34:
+/// likelihood ratio p 0.0012, mean rate 5.7 deg/s, p 0.45), which is not a
+/// launcher's rotation (launch rotation s33-s35: p 3e-5 to 0.002).
+std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin,
+                           double alpha);
 
 /// Shrink of a pooled held-out error with one glider left out: for each
 /// glider g, 1 - sqrt((sum(effect) - effect[g]) / (sum(baseline) -
