@@ -117,7 +117,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
-                             "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight"});
+                             "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight",
+                             "--no-unstepped-refit"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
@@ -162,6 +163,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
     throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
   o.step_per_flight = a.flag("--step-per-flight");
+  o.refit_unstepped = !a.flag("--no-unstepped-refit");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
   o.min_shrink = a.number("--min-shrink", o.min_shrink);
@@ -324,6 +326,9 @@ const bool registered_diagnose = register_command(
          "  --step-per-flight       profiled starts for launch_rotation per flight too: from its\n"
          "                          fit the centre values take their linearised step (docs);\n"
          "                          --no-step-per-flight: without (the default)\n"
+         "  --no-unstepped-refit    do not refit a candidate fitted before the baseline's step\n"
+         "                          at the baseline's final centre values (the search before\n"
+         "                          2026-11-30; docs)\n"
          "  --launch-rotation M     per-flight (default): every flight's own pitch rate at its\n"
          "                          first point is fitted (one value per flight); common: one\n"
          "                          rate for every flight of the session\n"

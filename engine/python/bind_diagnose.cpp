@@ -97,6 +97,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("hold_theory")) o.hold_theory = kw["hold_theory"].cast<bool>();
   if (kw.contains("escalate")) o.escalate = kw["escalate"].cast<bool>();
   if (kw.contains("step_per_flight")) o.step_per_flight = kw["step_per_flight"].cast<bool>();
+  if (kw.contains("refit_unstepped")) o.refit_unstepped = kw["refit_unstepped"].cast<bool>();
   if (kw.contains("profile")) o.profile = kw["profile"].cast<bool>();
   o.alpha = num("alpha", o.alpha);
   o.min_shrink = num("min_shrink", o.min_shrink);

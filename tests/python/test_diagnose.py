@@ -350,6 +350,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profiled_candidates"] == 3
     assert camera_case[1]["options"]["carry_steps"] is True
     assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["refit_unstepped"] is True  # on by default since 2026-11-30
     assert camera_case[1]["options"]["heldout_steps"] is True  # on by default since 2026-11-29
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
     assert camera_case[1]["options"]["hold_theory"] is False  # experimental, off by default
