@@ -365,7 +365,8 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
-                                               "--no-carry-steps", "--no-bound-guard", "--no-heldout-steps"])
+                                               "--no-carry-steps", "--no-bound-guard", "--no-heldout-steps",
+                                               "--no-unstepped-refit"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
@@ -375,6 +376,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert all(e["cross_validation"]["bound_pass"] for e in j["effects"])  # no guard, nothing it stops
     assert j["options"]["prefer_identifiable"] is True
     assert j["options"]["carry_steps"] is False
+    assert j["options"]["refit_unstepped"] is False
     # null data: nothing significant, so nothing to pass over
     assert "passed_over" not in j
     assert all(e["cross_validation"]["robust_pass"] for e in j["effects"])

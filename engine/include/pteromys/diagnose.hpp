@@ -554,7 +554,8 @@ std::string dominant_glider_sentence(const nlohmann::json& where, const std::vec
 /// significantly better (its likelihood-ratio test passed, Holm) but is not
 /// significant, and the verdict is something else (an effect or
 /// `unexplained`; empty for `none`, for the launch rotation verdict, and
-/// when it did not pass). On the blind results stored for seeds 25-35 its
+/// when it did not pass). On the blind results stored for seeds 25-35
+/// (before unstepped candidates were refitted at the final centre values) its
 /// test passed on 3 of the 5 launch-rotation datasets and in none of the
 /// 43 other runs (single effects, nulls, a two-effect case), while twice a
 /// correction applied to every flight took the verdict there (camera s33,
