@@ -54,15 +54,13 @@ WingTable::WingTable(const WingElements& el, const CoefficientModel& model, cons
   CoefficientSums s;
   model.sum_over_elements(element_shapes(el), re_per_chord, alphas, s);
   const std::size_t n = static_cast<std::size_t>(nv_) * na_;
-  d_.resize(n);
-  l_.resize(n);
-  m_.resize(n);
+  dlm_.resize(3 * n);
   for (int iv = 0; iv < nv_; ++iv)
     for (int ia = 0; ia < na_; ++ia) {
       const std::size_t idx = static_cast<std::size_t>(iv) * na_ + ia;
-      d_[idx] = s.cd_a[idx];
-      l_[idx] = s.cl_a[idx];
-      m_[idx] = s.cm_la[idx] + std::sin(alphas[ia]) * s.cd_da[idx] + std::cos(alphas[ia]) * s.cl_da[idx];
+      dlm_[3 * idx] = s.cd_a[idx];
+      dlm_[3 * idx + 1] = s.cl_a[idx];
+      dlm_[3 * idx + 2] = s.cm_la[idx] + std::sin(alphas[ia]) * s.cd_da[idx] + std::cos(alphas[ia]) * s.cl_da[idx];
     }
 }
 
@@ -87,18 +85,16 @@ WingCoefs WingTable::lookup(const SpeedWeights& sw, double alpha) const {
     double rd = 0, rl = 0, rm = 0;
     const std::size_t row = static_cast<std::size_t>(jv) * na_;
     if (inner) {
-      const double* d = &d_[row + ia - 1];
-      const double* l = &l_[row + ia - 1];
-      const double* m = &m_[row + ia - 1];
-      rd = wa[0] * d[0] + wa[1] * d[1] + wa[2] * d[2] + wa[3] * d[3];
-      rl = wa[0] * l[0] + wa[1] * l[1] + wa[2] * l[2] + wa[3] * l[3];
-      rm = wa[0] * m[0] + wa[1] * m[1] + wa[2] * m[2] + wa[3] * m[3];
+      const double* x = &dlm_[3 * (row + ia - 1)];  // drag, lift, moment of 4 nodes
+      rd = wa[0] * x[0] + wa[1] * x[3] + wa[2] * x[6] + wa[3] * x[9];
+      rl = wa[0] * x[1] + wa[1] * x[4] + wa[2] * x[7] + wa[3] * x[10];
+      rm = wa[0] * x[2] + wa[1] * x[5] + wa[2] * x[8] + wa[3] * x[11];
     } else {
       for (int q = 0; q < 4; ++q) {
-        const int ja = std::clamp(ia - 1 + q, 0, na_ - 1);
-        rd += wa[q] * d_[row + ja];
-        rl += wa[q] * l_[row + ja];
-        rm += wa[q] * m_[row + ja];
+        const std::size_t ja = 3 * (row + std::clamp(ia - 1 + q, 0, na_ - 1));
+        rd += wa[q] * dlm_[ja];
+        rl += wa[q] * dlm_[ja + 1];
+        rm += wa[q] * dlm_[ja + 2];
       }
     }
     c.drag += sw.w[p] * rd;

@@ -369,7 +369,7 @@ EffectAero::EffectAero(const MountedGlider& g, const GliderFeatures& f, const Ef
   }
 }
 
-void EffectAero::flows(const FlightState& s, WingFlow* out) const {
+void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
   const std::size_t n = f_.wings.size();
   const double cb = std::cos(s.beta), sb = std::sin(s.beta);
   // Air velocity relative to the glider at the CG, glider frame.
@@ -408,22 +408,30 @@ void EffectAero::flows(const FlightState& s, WingFlow* out) const {
       const double Vj = norm(u);
       const double g = std::atan2(u.y, -u.x);
       const double ageo = g + deg2rad(mounts[j].angle_deg);
+      if (!coefs && passes == 1 && c[j] == 0) {
+        // The angles alone (max_alpha): nothing below feeds them back.
+        out[j].speed = Vj;
+        out[j].alpha = wrap(ageo);
+        out[j].gamma = wrap(g);
+        continue;
+      }
       const auto& t = g_.aero().table(j);
+      // Both look-ups of this pass are at the same speed: its weights once.
+      const WingTable::SpeedWeights sw = t.speed_weights(Vj);
       double x = ageo - eps[j];
-      double lift = 0;
       if (c[j] != 0) {
         // One relaxed Newton step per pass on x + c C_L(x) = alpha_geo with the
         // table's small-angle slope (exact in the linear range).
-        const double cl = t.lookup(Vj, wrap(x)).lift / f_.wings[j].area;
+        const double cl = t.lookup(sw, wrap(x)).lift / f_.wings[j].area;
         const double den = std::max(0.2, 1 + c[j] * slope_[j]);
         x -= (x + c[j] * cl - ageo) / den;
         eps[j] = ageo - x;
       }
-      lift = t.lookup(Vj, wrap(x)).lift;
+      out[j].coefs = t.lookup(sw, wrap(x));
       out[j].speed = Vj;
       out[j].alpha = wrap(x);
       out[j].gamma = wrap(g - eps[j]);
-      out[j].cl = lift / f_.wings[j].area;
+      out[j].cl = out[j].coefs.lift / f_.wings[j].area;
     }
     if (pass + 1 == passes || values_.downwash == 0) continue;
     // Interference: the other wings' wakes, circulation 1/2 V_i C_L,i c(z)
@@ -454,7 +462,7 @@ Wrench EffectAero::evaluate(const FlightState& s) const {
   Vec2 F{0, 0};
   double T = 0;
   for (std::size_t j = 0; j < f_.wings.size(); ++j) {
-    const WingCoefs c = g_.aero().table(j).lookup(fl[j].speed, fl[j].alpha);
+    const WingCoefs& c = fl[j].coefs;  // the table at (speed, alpha), looked up by flows
     const double q = 0.5 * rho_ * fl[j].speed * fl[j].speed;
     const double cg_ = std::cos(fl[j].gamma), sg = std::sin(fl[j].gamma);
     // Drag along the local air velocity (-cos, sin), lift perpendicular (sin, cos).
@@ -479,7 +487,7 @@ double EffectAero::max_alpha(const FlightState& s) const {
   if (values_.aerodynamic_zero()) return base_.max_alpha(s);
   if (norm(s.v) < 1e-9) return base_.max_alpha(s);
   WingFlow fl[8];
-  flows(s, fl);
+  flows(s, fl, false);
   double m = 0;
   for (std::size_t j = 0; j < f_.wings.size(); ++j) m = std::max(m, std::abs(fl[j].alpha));
   return m;

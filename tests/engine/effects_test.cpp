@@ -347,3 +347,40 @@ TEST(EffectNames, AreTheSpecLibraryInOrder) {
   }
   EXPECT_THROW(effect_from_name("vortex_shedding"), InputError);
 }
+
+// max_alpha (called once per simulation step) skips the tables when no pass
+// iterates; it must still be the largest |alpha| of the full local flows, and
+// the forces must be the tables looked up at those flows, for every
+// combination of corrections (with and without iterated passes).
+TEST(EffectAero, MaxAlphaAndForcesAgreeWithTheFullLocalFlows) {
+  Rig s(training("t17-canard"));
+  const double rho = s.mg.aero().environment().air_density;
+  for (int k = 0; k < 5; ++k) {
+    EffectValues v;
+    if (k == 0) v.pitch_damping = 1.0;
+    if (k == 1) v.fuselage_drag = 1.0;
+    if (k == 2) v.finite_span = 1.0;
+    if (k == 3) v.downwash = 1.0;
+    if (k == 4) v.pitch_damping = v.ground_effect = 1.0;
+    const EffectAero e(s.mg, s.f, v);
+    for (double om : {-4.0, 0.0, 6.0})
+      for (double beta : {-0.15, 0.02, 0.25}) {
+        const FlightState st = level(7.0, om, beta);
+        const auto fl = e.wing_flows(st);
+        double m = 0, lift = 0;
+        for (std::size_t j = 0; j < fl.size(); ++j) {
+          m = std::max(m, std::abs(fl[j].alpha));
+          const WingCoefs c = s.mg.aero().table(j).lookup(fl[j].speed, fl[j].alpha);
+          EXPECT_EQ(c.lift, fl[j].coefs.lift) << "case " << k << " wing " << j;
+          lift += 0.5 * rho * fl[j].speed * fl[j].speed * (c.lift * std::cos(fl[j].gamma) + c.drag * std::sin(fl[j].gamma));
+        }
+        EXPECT_EQ(e.max_alpha(st), m) << "case " << k << " omega " << om << " beta " << beta;
+        // Glider-frame vertical force of the wings (fuselage drag adds its own).
+        if (k != 1) {
+          const Wrench w = e.evaluate(st);
+          const Vec2 fb = rotate(w.force, -st.beta);
+          EXPECT_NEAR(fb.y, lift, 1e-9 * std::abs(lift) + 1e-12) << "case " << k;
+        }
+      }
+  }
+}

@@ -53,7 +53,7 @@ class WingTable {
  private:
   int nv_ = 0, na_ = 0;
   double lv0_ = 0, dlv_ = 1, a0_ = 0, da_ = 1, alpha_max_ = 0;
-  std::vector<double> d_, l_, m_;  // nv x na
+  std::vector<double> dlm_;  // nv x na nodes, each (drag, lift, moment): one look-up reads adjacent memory
 };
 
 /// Direct evaluation of the same sums (no table): reference for the tables.

@@ -228,6 +228,7 @@ struct WingFlow {
   double alpha = 0;   ///< angle of attack the table is looked up at [rad]
   double gamma = 0;   ///< local effective flow angle (as the glider's gamma) [rad]
   double cl = 0;      ///< table lift / area at (speed, alpha)
+  WingCoefs coefs;    ///< the table's look-up at (speed, alpha), as evaluate uses it
 };
 
 /// The baseline quasi-static model of a mounted glider with the aerodynamic
@@ -253,7 +254,9 @@ class EffectAero final : public AeroForces {
   double section_slope(std::size_t j) const { return slope_[j]; }
 
  private:
-  void flows(const FlightState& s, WingFlow* out) const;
+  /// `coefs` false: only speed, alpha and gamma are wanted (max_alpha); when
+  /// no pass iterates they do not depend on the tables, which are skipped.
+  void flows(const FlightState& s, WingFlow* out, bool coefs = true) const;
   const MountedGlider& g_;
   const GliderFeatures& f_;
   EffectValues values_;
