@@ -408,8 +408,9 @@ void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
       const double Vj = norm(u);
       const double g = std::atan2(u.y, -u.x);
       const double ageo = g + deg2rad(mounts[j].angle_deg);
-      if (!coefs && passes == 1 && c[j] == 0) {
-        // The angles alone (max_alpha): nothing below feeds them back.
+      if (!coefs && passes == 1) {
+        // The angles alone (max_alpha): one pass has no induced angle (c is
+        // zero, eps stays 0), so nothing below feeds the tables back into them.
         out[j].speed = Vj;
         out[j].alpha = wrap(ageo);
         out[j].gamma = wrap(g);
