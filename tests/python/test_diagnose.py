@@ -328,13 +328,15 @@ def test_null_data_give_no_discovery(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     msgs = []
-    # The held-out-led steps and the bound guard off and the second search
-    # asked for explicitly: the wrapper passes all three through (null
-    # data: nothing may be significant with or without them).
+    # The held-out-led steps, the bound guard and the unstepped candidates'
+    # refit off and the second search asked for explicitly: the wrapper
+    # passes all four through (null data: nothing may be significant with or
+    # without them).
     j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, heldout_steps=False, escalate=False,
-                          bound_guard=False, progress=lambda p: msgs.append(p))
+                          bound_guard=False, refit_unstepped=False, progress=lambda p: msgs.append(p))
     assert j["options"]["heldout_steps"] is False and j["options"]["escalate"] is False
     assert j["options"]["bound_guard"] is False
+    assert j["options"]["refit_unstepped"] is False
     assert j["format"] == "pteromys-diagnosis/1"
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
     assert j["verdict"] == "none", j["summary"]
@@ -566,3 +568,27 @@ def test_help_lists_the_command():
     assert "diagnose" in r.stdout + r.stderr
     r = run(["diagnose", "--help"])
     assert r.returncode == 0 and "--report" in r.stdout
+
+
+def test_python_call_accepts_every_option_the_engine_reads():
+    """The wrapper's keyword list is written by hand beside the binding that
+    reads the options (engine/python/bind_diagnose.cpp, options_from): an
+    option read there but missing from the wrapper cannot be set from Python
+    (refit_unstepped, step_per_flight and others were documented as Python
+    keywords while the call refused them with a TypeError)."""
+    import inspect
+    import pteromys
+    src = open(os.path.join(ROOT, "engine", "python", "bind_diagnose.cpp"), encoding="utf-8").read()
+    body = src[src.index("DiagnoseOptions options_from("):]
+    body = body[:body.index("\nvoid bind_diagnose(")]
+    read = set(re.findall(r'(?:kw\.contains|kw\[|num|whole)\("([a-z_0-9]+)"', body))
+    assert {"folds", "refit_unstepped", "oracle", "threads"} <= read, read  # the pattern still finds them
+    params = set(inspect.signature(pteromys.diagnose).parameters)
+    assert read - params == set(), "read by the binding, not accepted by pteromys.diagnose"
+
+
+def test_python_call_refuses_a_bad_oracle(tmp_path):
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    with pytest.raises(Exception, match="vortex"):
+        pteromys.diagnose(ds, folds=3, oracle="vortex=1")

@@ -23,7 +23,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, heldout_steps=True, escalate=False,
-             prefer_identifiable=False, threads=0, progress=None):
+             prefer_identifiable=False, step_alpha=1.0, carry_steps=True, theory_starts=False, hold_theory=False,
+             step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -61,6 +62,13 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     significant one that is not predicts the held-out gliders not
     significantly worse (paired over gliders), the verdict names the latter
     (result key ``passed_over``).
+    ``step_alpha``, ``carry_steps``, ``theory_starts``, ``hold_theory``,
+    ``step_per_flight``, ``refit_unstepped``, ``oracle`` (e.g.
+    ``"finite_span=1"``) and ``plausible`` (e.g. ``"camera=0.05:3"``) are
+    the CLI's ``--step-alpha``, ``--carry-steps``/``--no-carry-steps``,
+    ``--theory-starts``, ``--hold-theory``, ``--step-per-flight``,
+    ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
+    (docs/diagnosis.md, *Using it*).
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
@@ -75,7 +83,10 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 profile_min_gliders=profile_min_gliders, profiled_candidates=profiled_candidates,
                 glider_guard=bool(glider_guard), bound_guard=bool(bound_guard), heldout_steps=bool(heldout_steps),
                 escalate=bool(escalate),
-                prefer_identifiable=bool(prefer_identifiable), threads=threads)
+                prefer_identifiable=bool(prefer_identifiable), step_alpha=step_alpha, carry_steps=bool(carry_steps),
+                theory_starts=bool(theory_starts), hold_theory=bool(hold_theory),
+                step_per_flight=bool(step_per_flight), refit_unstepped=bool(refit_unstepped), oracle=oracle,
+                plausible=plausible, threads=threads)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
 
