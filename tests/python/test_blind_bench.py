@@ -339,3 +339,81 @@ def test_the_documented_top1_figures_are_the_tables_count():
     row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
     assert row.rstrip().endswith("| no (%d of %d) |" % (hits, n)) or row.rstrip().endswith("| yes (%d of %d) |" % (hits, n))
     assert ("yes" in row.rstrip().split("|")[-2]) == (hits >= 0.9 * n)
+
+
+def _rows_after(text, header):
+    """The body rows of the markdown table whose header line is `header`, as lists of cells."""
+    lines = text.splitlines()
+    head = lines.index(header)
+    rows = []
+    for line in lines[head + 2:]:
+        if not line.startswith("|"):
+            break
+        rows.append([c.strip() for c in line.strip("|").split("|")])
+    return lines[head].strip("|").split("|"), rows
+
+
+def test_the_documented_confusion_matrix_is_the_tables_count():
+    """The confusion matrix of the nameable cases in docs/diagnosis.md is
+    recounted from the top-1 table: every cell, and each row's hits."""
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    table = _top1_table(text)
+    head, rows = _rows_after(text, "| truth (nameable) \\ verdict | camera | downwash | finite_span | pitch_damping "
+                                   "| wind | none | unexplained | named right |")
+    verdicts = [h.strip() for h in head[1:-1]]
+    truths = sorted({case.split("-")[0] for case, _, _, _ in table})
+    assert [r[0] for r in rows] == truths, "one row per true effect in the table"
+    assert {v for _, _, v, _ in table} <= set(verdicts), "a verdict of the table has no column"
+    for r in rows:
+        cases = [(case, v) for case, _, v, _ in table if case.split("-")[0] == r[0]]
+        for v, cell in zip(verdicts, r[1:-1]):
+            n = sum(1 for _, x in cases if x == v)
+            assert cell == (str(n) if n else "."), (r[0], v, cell)
+        hits = sum(1 for _, x in cases if x == r[0])
+        assert r[-1] == "%d of %d" % (hits, len(cases)), r[0]
+
+
+def test_the_fresh_seed_grid_agrees_with_the_top1_table():
+    """The grid of every run on seeds 28-37 holds each nameable case of the
+    top-1 table with the same verdict and oracle, no case the table would
+    have to count is missing from the table, and the totals under it are
+    the grid's."""
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    table = {case: (oracle, verdict) for case, oracle, verdict, _ in _top1_table(text)}
+    head, rows = _rows_after(text, "| effect \\ seed | 28 | 29 | 30 | 31 | 32 | 33 | 34 | 35 | 36 | 37 |")
+    seeds = [int(h) for h in head[1:]]
+    cell_re = re.compile(r"^(\*\*)?([a-z_]+)(\*\*)? \(([−\-0-9.]+) %\)$")
+    right = wrong = none = unexpl = 0
+    nameable = {"right": 0, "wrong": 0, "none": 0, "unexplained": 0}
+    seen = set()
+    for r in rows:
+        effect = r[0]
+        assert effect in rb.EFFECTS
+        for seed, cell in zip(seeds, r[1:]):
+            if cell == "—":
+                continue
+            m = cell_re.match(cell)
+            assert m, cell
+            verdict, oracle = m.group(2), float(m.group(4).replace("\u2212", "-"))
+            assert bool(m.group(1)) == (verdict == effect), cell + ": bold marks the true effect"
+            case = "%s-1-s%d" % (effect, seed)
+            kind = "right" if verdict == effect else verdict if verdict in ("none", "unexplained") else "wrong"
+            if oracle >= 5.0:
+                assert table.get(case) == (oracle, verdict), case
+                seen.add(case)
+                nameable[kind] += 1
+            else:
+                assert case not in table, case
+            right += kind == "right"
+            wrong += kind == "wrong"
+            none += kind == "none"
+            unexpl += kind == "unexplained"
+    in_range = {c for c in table if int(c.rsplit("-s", 1)[1]) in seeds}
+    assert in_range == seen, "the top-1 table's cases on these seeds and the grid's nameable cells differ"
+    total = right + wrong + none + unexpl
+    stated = re.search(r"\*\*On these (\d+) runs: (\d+) named right, (\d+) named wrong, (\d+) none, (\d+)\s+"
+                       r"unexplained\.\*\* Of the (\d+) nameable, (\d+) right, (\d+) wrong, (\d+) `none`, (\d+)\s+"
+                       r"`unexplained`", text)
+    assert stated, "the grid's totals line is missing"
+    assert [int(x) for x in stated.groups()] == [total, right, wrong, none, unexpl, len(seen), nameable["right"],
+                                                 nameable["wrong"], nameable["none"], nameable["unexplained"]]
