@@ -509,6 +509,9 @@ TEST(Diagnose, FindsTheCorrectionThatMadeTheFlights) {
   const DiagnoseOptions o = small_diagnosis({Effect::PitchDamping, Effect::AddedMass});  // they damp pitch alike
   const DiagnoseResult r = diagnose(d, o);
   EXPECT_EQ(r.verdict, "pitch_damping") << r.summary;
+  // The summary gives the fitted strength with the theory's size to read it by.
+  EXPECT_TRUE(std::regex_search(r.summary, std::regex(R"(fitted strength [0-9.]+ \(1 would be its theoretical size\)\.)")))
+      << r.summary;
   for (const auto& e : r.effects) {
     EXPECT_LE(e.fit_rmse_m, r.fit_rmse_m * (1 + 1e-12)) << e.name;
     if (e.effect == Effect::PitchDamping) {
@@ -1634,6 +1637,8 @@ TEST(Diagnose, AnOvershootingStepIsGivenUpAndDamped) {
   std::vector<std::string> lines;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
   ASSERT_EQ(r.verdict, "wind") << r.summary;
+  // A wind in m/s has no theoretical size to compare it with.
+  EXPECT_EQ(r.summary.find("theoretical size"), std::string::npos) << r.summary;
   // "all gliders: wind from 0.5 of the linearised step (...): RMSE a cm (the full step: b cm)"
   const std::regex damped(R"(^all gliders: wind from 0\.5 of the linearised step .*: RMSE ([0-9.]+) cm \(the full step: ([0-9.]+) cm\))");
   int seen = 0;
