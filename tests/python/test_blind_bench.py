@@ -344,7 +344,7 @@ def test_the_documented_top1_figures_are_the_tables_count():
 def _rows_after(text, header):
     """The body rows of the markdown table whose header line is `header`, as lists of cells."""
     lines = text.splitlines()
-    head = lines.index(header)
+    head = next(i for i, line in enumerate(lines) if line.startswith(header))
     rows = []
     for line in lines[head + 2:]:
         if not line.startswith("|"):
@@ -374,13 +374,13 @@ def test_the_documented_confusion_matrix_is_the_tables_count():
 
 
 def test_the_fresh_seed_grid_agrees_with_the_top1_table():
-    """The grid of every run on seeds 28-37 holds each nameable case of the
+    """The grid of every run on the fresh seeds from 28 holds each nameable case of the
     top-1 table with the same verdict and oracle, no case the table would
     have to count is missing from the table, and the totals under it are
     the grid's."""
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     table = {case: (oracle, verdict) for case, oracle, verdict, _ in _top1_table(text)}
-    head, rows = _rows_after(text, "| effect \\ seed | 28 | 29 | 30 | 31 | 32 | 33 | 34 | 35 | 36 | 37 |")
+    head, rows = _rows_after(text, "| effect \\ seed | 28 | 29 |")
     seeds = [int(h) for h in head[1:]]
     cell_re = re.compile(r"^(\*\*)?([a-z_]+)(\*\*)? \(([−\-0-9.]+) %\)$")
     right = wrong = none = unexpl = 0
