@@ -8,6 +8,7 @@ the data it made (generation.json: the wind in m/s, the camera's scale and
 roll, the launch rotation's nominal rate), not against the script itself; the
 counts against tables worked out by hand from made-up diagnosis results.
 """
+import collections
 import importlib.util
 import json
 import os
@@ -285,19 +286,25 @@ def test_rule_replay_recomputes_the_bound_guard_from_stored_per_glider_figures(t
     assert "no longer another effect significant: pitch_damping-1-s7" in out
 
 
-def _top1_table(text):
-    """The rows of docs/diagnosis.md's top-1 table: (case, oracle %, verdict,
-    the true effect's shrink %)."""
+def _rows_after(text, header):
+    """The header cells and body rows (lists of cells) of the markdown table
+    in `text` whose header line starts with `header`."""
     lines = text.splitlines()
-    head = lines.index("| case | oracle | verdict | true effect's shrink | commit |")
-    percent = lambda x: float(x.rstrip(" %").replace("\u2212", "-"))  # the docs write a minus sign
+    head = next(i for i, line in enumerate(lines) if line.startswith(header))
     rows = []
     for line in lines[head + 2:]:
         if not line.startswith("|"):
             break
-        cells = [c.strip() for c in line.strip("|").split("|")]
-        rows.append((cells[0], percent(cells[1]), cells[2], percent(cells[3])))
-    return rows
+        rows.append([c.strip() for c in line.strip("|").split("|")])
+    return lines[head].strip("|").split("|"), rows
+
+
+def _top1_table(text):
+    """The rows of docs/diagnosis.md's top-1 table: (case, oracle %, verdict,
+    the true effect's shrink %)."""
+    _, rows = _rows_after(text, "| case | oracle | verdict | true effect's shrink | commit |")
+    percent = lambda x: float(x.rstrip(" %").replace("\u2212", "-"))  # the docs write a minus sign
+    return [(c[0], percent(c[1]), c[2], percent(c[3])) for c in rows]
 
 
 def test_the_documented_oracle_ratio_is_the_tables_count():
@@ -341,18 +348,6 @@ def test_the_documented_top1_figures_are_the_tables_count():
     assert ("yes" in row.rstrip().split("|")[-2]) == (hits >= 0.9 * n)
 
 
-def _rows_after(text, header):
-    """The body rows of the markdown table whose header line is `header`, as lists of cells."""
-    lines = text.splitlines()
-    head = next(i for i, line in enumerate(lines) if line.startswith(header))
-    rows = []
-    for line in lines[head + 2:]:
-        if not line.startswith("|"):
-            break
-        rows.append([c.strip() for c in line.strip("|").split("|")])
-    return lines[head].strip("|").split("|"), rows
-
-
 def test_the_documented_confusion_matrix_is_the_tables_count():
     """The confusion matrix of the nameable cases in docs/diagnosis.md is
     recounted from the top-1 table: every cell, and each row's hits."""
@@ -383,8 +378,7 @@ def test_the_fresh_seed_grid_agrees_with_the_top1_table():
     head, rows = _rows_after(text, "| effect \\ seed | 28 | 29 |")
     seeds = [int(h) for h in head[1:]]
     cell_re = re.compile(r"^(\*\*)?([a-z_]+)(\*\*)? \(([−\-0-9.]+) %\)$")
-    right = wrong = none = unexpl = 0
-    nameable = {"right": 0, "wrong": 0, "none": 0, "unexplained": 0}
+    every, nameable = collections.Counter(), collections.Counter()
     seen = set()
     for r in rows:
         effect = r[0]
@@ -404,16 +398,13 @@ def test_the_fresh_seed_grid_agrees_with_the_top1_table():
                 nameable[kind] += 1
             else:
                 assert case not in table, case
-            right += kind == "right"
-            wrong += kind == "wrong"
-            none += kind == "none"
-            unexpl += kind == "unexplained"
+            every[kind] += 1
     in_range = {c for c in table if int(c.rsplit("-s", 1)[1]) in seeds}
     assert in_range == seen, "the top-1 table's cases on these seeds and the grid's nameable cells differ"
-    total = right + wrong + none + unexpl
+    kinds = ["right", "wrong", "none", "unexplained"]
     stated = re.search(r"\*\*On these (\d+) runs: (\d+) named right, (\d+) named wrong, (\d+) none, (\d+)\s+"
                        r"unexplained\.\*\* Of the (\d+) nameable, (\d+) right, (\d+) wrong, (\d+) `none`, (\d+)\s+"
                        r"`unexplained`", text)
     assert stated, "the grid's totals line is missing"
-    assert [int(x) for x in stated.groups()] == [total, right, wrong, none, unexpl, len(seen), nameable["right"],
-                                                 nameable["wrong"], nameable["none"], nameable["unexplained"]]
+    assert [int(x) for x in stated.groups()] == ([sum(every.values())] + [every[k] for k in kinds] +
+                                                 [len(seen)] + [nameable[k] for k in kinds])
