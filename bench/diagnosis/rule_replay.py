@@ -148,6 +148,32 @@ def bound_guard(f):
     return built(dict(f, bound_pass=f["bound_share"] <= 0.5))
 
 
+# Effects applied alike to every flight of the session (EffectLevel Session
+# and Observation in engine/src/effects.cpp).
+SESSION_WIDE = ("wind", "camera")
+
+
+def launch_withheld(r):
+    """The launch withhold (launch_withheld in the engine, on by default
+    since 2026-12-01) on a stored result: its verdict names wind or the
+    camera, and launch rotation passed its likelihood-ratio test, is not
+    significant and (per-flight rates) its rates' mean has p under alpha.
+    A result of a binary with the withhold already carries it in
+    ``withheld``."""
+    if r.get("withheld"):
+        return True
+    if r.get("verdict") not in SESSION_WIDE:
+        return False
+    alpha = r.get("options", {}).get("alpha", 0.01)
+    for e in r["effects"]:
+        if e["name"] != "launch_rotation":
+            continue
+        rate = e.get("rate_mean")
+        rates_one_way = not isinstance(rate, dict) or rate.get("p_value", 1.0) < alpha
+        return bool(e.get("likelihood_ratio", {}).get("pass")) and not e.get("significant") and rates_one_way
+    return False
+
+
 RULES = [("as built", built), ("held-out alone for collinear effects", heldout_for_collinear),
          ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust),
          ("glider guard at three quarters", guard_three_quarters), ("bound guard", bound_guard)]
@@ -229,6 +255,20 @@ def main(argv=None):
                     lines.append("  no longer %s: %s [%s]: %s" % (what, c[1], c[4].get("bench_commit", "?"), gone))
         print("%s, against the rule as built:" % label)
         print("\n".join(lines) if lines else "  no change")
+    # The verdict-level rule: which stored verdicts the launch withhold
+    # turns into `unexplained`, by truth.
+    held = [c for c in cases if launch_withheld(c[4])]
+    by_truth = {}
+    for c in cases:
+        t = "+".join(c[2]) or "none"
+        by_truth.setdefault(t, [0, 0])
+        by_truth[t][0] += 1
+        by_truth[t][1] += c in held
+    print("\nlaunch withhold (verdict wind or camera withheld beside a fitting launch rotation), by truth: " +
+          ", ".join("%s %d of %d" % (t, k[1], k[0]) for t, k in sorted(by_truth.items())))
+    for c in held:
+        print("  withheld: %s [%s]: %s" % (c[1], c[4].get("bench_commit", "?"),
+                                          c[4].get("withheld", {}).get("effect", c[4]["verdict"])))
     return 0
 
 

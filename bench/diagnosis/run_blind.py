@@ -368,7 +368,8 @@ def markdown(s):
 def case_of(name):
     """A case from its name: one of the lists, or EFFECT-STRENGTH-sSEED (one
     effect at any strength, e.g. pitch_damping-0.5-s25, for the strength
-    sweep) or null-sSEED. None if the name is neither."""
+    sweep), EFFECT+EFFECT-sSEED (two effects, each at strength 1) or
+    null-sSEED. None if the name is none of these."""
     known = {c["name"]: c for c in cases(False)}
     if name in known:
         return known[name]
@@ -376,6 +377,10 @@ def case_of(name):
     try:
         if len(parts) == 2 and parts[0] == "null" and parts[1].startswith("s"):
             return {"name": name, "truth": [], "strength": {}, "seed": int(parts[1][1:])}
+        two = parts[0].split("+")
+        if len(parts) == 2 and len(two) == 2 and two[0] != two[1] and all(e in EFFECTS for e in two) and \
+                parts[1].startswith("s"):
+            return {"name": name, "truth": two, "strength": {e: 1.0 for e in two}, "seed": int(parts[1][1:])}
         if len(parts) == 3 and parts[0] in EFFECTS and parts[2].startswith("s"):
             k = float(parts[1])
             if k > 0:
@@ -395,7 +400,8 @@ def selected(args):
     names = [n for n in args.cases.split(",") if n]
     bad = [n for n in names if case_of(n) is None]
     if bad:
-        sys.exit("run_blind.py: unknown case(s) %s; cases are: %s, or EFFECT-STRENGTH-sSEED, null-sSEED" % (
+        sys.exit("run_blind.py: unknown case(s) %s; cases are: %s, or EFFECT-STRENGTH-sSEED, EFFECT+EFFECT-sSEED, "
+                 "null-sSEED" % (
             ", ".join(bad), ", ".join(c["name"] for c in cases(False))))
     return [case_of(n) for n in names]
 

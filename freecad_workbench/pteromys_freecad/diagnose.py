@@ -73,9 +73,13 @@ def second_search_options(result):
     diagnosis can be made again with every aerodynamic correction also
     started at its theoretical size (``theory_starts``; the engine's
     ``escalate`` does the same after its first search; docs/diagnosis.md,
-    "Second search"). Only with profiled starts, which those starts need."""
+    "Second search"). Only with profiled starts, which those starts need;
+    not after a withheld verdict (result key ``withheld``: a candidate closes
+    the gap, and the launches are in question, not the starts)."""
     opts = result.get("options", {})
     if result.get("verdict") != "unexplained" or result.get("escalation", {}).get("ran"):
+        return None
+    if result.get("withheld"):  # a candidate closes the gap; the launches, not the starts, are in question
         return None
     if opts.get("theory_starts") or not opts.get("profile", True):
         return None
@@ -95,6 +99,8 @@ def summary_text(result):
         lines[1:1] = ["Also present: %s" % ", ".join(result["also"])]
     if result.get("alternatives"):
         lines[1:1] = ["Cannot be told apart from it: %s" % ", ".join(result["alternatives"])]
+    if result.get("withheld"):
+        lines[1:1] = ["Withheld (launch rotation fits too; check the launches): %s" % result["withheld"]["effect"]]
     if result.get("passed_over"):
         lines[1:1] = ["Passed over (re-tuned coefficients can imitate it): %s" % result["passed_over"]["effect"]]
     for e in result["effects"][:3]:

@@ -43,6 +43,9 @@ RESULT["again_unexplained"] = pd.second_search_options(unexplained)
 RESULT["again_escalated"] = pd.second_search_options(dict(unexplained, escalation={"ran": True}))
 RESULT["again_theory"] = pd.second_search_options(dict(unexplained, options=dict(result["options"], theory_starts=True)))
 RESULT["again_fixed"] = pd.second_search_options(dict(unexplained, options=dict(result["options"], profile=False)))
+withheld = dict(unexplained, withheld={"effect": "wind", "because": "launch_rotation"})
+RESULT["again_withheld"] = pd.second_search_options(withheld)
+RESULT["text_withheld"] = pd.summary_text(withheld)
 ''' % (str(ds), str(ds)), timeout=600)
     assert res["index"] == str(report / "index.html")
     assert res["default_dir"] == str(report)
@@ -59,6 +62,10 @@ RESULT["again_fixed"] = pd.second_search_options(dict(unexplained, options=dict(
     assert res["again_escalated"] is None
     assert res["again_theory"] is None
     assert res["again_fixed"] is None
+    # nor after a withheld verdict (a candidate closed the gap; the launches
+    # are in question, not the starts), which the message box names
+    assert res["again_withheld"] is None
+    assert "Withheld (launch rotation fits too; check the launches): wind" in res["text_withheld"]
     steps = res["steps"]
     assert len(steps) > 5 and steps[-1][2] == "done" and steps[-1][0] == steps[-1][1]
     assert not [p for p in os.listdir(report.parent) if p.startswith(".diagnosis-")]

@@ -333,9 +333,11 @@ def test_null_data_give_no_discovery(tmp_path):
     # passes all four through (null data: nothing may be significant with or
     # without them).
     j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, heldout_steps=False, escalate=False,
-                          bound_guard=False, refit_unstepped=False, progress=lambda p: msgs.append(p))
+                          bound_guard=False, refit_unstepped=False, launch_withhold=False,
+                          progress=lambda p: msgs.append(p))
     assert j["options"]["heldout_steps"] is False and j["options"]["escalate"] is False
     assert j["options"]["bound_guard"] is False
+    assert j["options"]["launch_withhold"] is False and "withheld" not in j
     assert j["options"]["refit_unstepped"] is False
     assert j["format"] == "pteromys-diagnosis/1"
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
@@ -363,17 +365,20 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["step_alpha"] == 1.0
     assert camera_case[1]["options"]["glider_guard"] is True
     assert camera_case[1]["options"]["bound_guard"] is True
+    # the launch withhold is on, and the camera's verdict was not withheld
+    assert camera_case[1]["options"]["launch_withhold"] is True and "withheld" not in camera_case[1]
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
                                                "--no-carry-steps", "--no-bound-guard", "--no-heldout-steps",
-                                               "--no-unstepped-refit"])
+                                               "--no-unstepped-refit", "--no-launch-withhold"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
     assert j["options"]["glider_guard"] is False
     assert j["options"]["bound_guard"] is False
+    assert j["options"]["launch_withhold"] is False
     assert j["options"]["heldout_steps"] is False
     assert all(e["cross_validation"]["bound_pass"] for e in j["effects"])  # no guard, nothing it stops
     assert j["options"]["prefer_identifiable"] is True

@@ -223,6 +223,11 @@ def render(r, out, quiet=True):
     if r.get("alternatives"):
         also += (" " if also else "") + ("Cannot be told apart from the verdict with these data (the same misfit): "
                                          "%s." % ", ".join(r["alternatives"]))
+    if r.get("withheld"):
+        also += (" " if also else "") + (
+            "Withheld: %s closes part of the gap but is not named, since launch rotation fits the training flights "
+            "too with the launches turning one way (a launch habit it can imitate; see the summary)."
+            % r["withheld"]["effect"])
     if r.get("passed_over"):
         po = r["passed_over"]
         also += (" " if also else "") + (
