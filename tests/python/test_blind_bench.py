@@ -408,3 +408,35 @@ def test_the_fresh_seed_grid_agrees_with_the_top1_table():
     assert stated, "the grid's totals line is missing"
     assert [int(x) for x in stated.groups()] == ([sum(every.values())] + [every[k] for k in kinds] +
                                                  [len(seen)] + [nameable[k] for k in kinds])
+
+
+def test_rule_replay_counts_the_verdicts_the_launch_withhold_takes_back(tmp_path, capsys):
+    # Worked out from the rule (docs/diagnosis.md, "The launch withhold"):
+    # the wind verdict beside a launch rotation whose likelihood ratio passed,
+    # not significant, rates' mean p 0.002 < alpha 0.01 is withheld; the same
+    # with the rates scattered (p 0.4) is not; a pitch-damping verdict beside
+    # the same launch rotation is not (aerodynamic); a result that already
+    # carries `withheld` (a binary with the rule) counts as withheld.
+    def lr(p_rates):
+        e = _stored("launch_rotation", True, 0.02, 3.0, False)
+        e["rate_mean"] = {"p_value": p_rates, "pass": p_rates < 0.01 / 9}
+        return e
+
+    def write(name, verdict, effects, **extra):
+        d = tmp_path / name
+        d.mkdir()
+        (d / "diagnosis.json").write_text(json.dumps(dict(
+            effects=effects, verdict=verdict, options={"min_shrink": 0.05, "alpha": 0.01}, **extra)))
+    wind = _stored("wind", True, 0.12, 40.0, True)
+    pd = _stored("pitch_damping", True, 0.12, 40.0, True)
+    write("launch_rotation-1-s1", "wind", [wind, lr(0.002)])
+    write("launch_rotation-1-s2", "wind", [wind, lr(0.4)])
+    write("launch_rotation-1-s3", "unexplained", [dict(wind), lr(0.002)], withheld={"effect": "camera"})
+    write("pitch_damping-1-s4", "pitch_damping", [pd, lr(0.002)])
+    assert rr.launch_withheld(json.loads((tmp_path / "launch_rotation-1-s1" / "diagnosis.json").read_text()))
+    assert rr.main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "by truth: launch_rotation 2 of 3, pitch_damping 0 of 1" in out
+    assert "withheld: launch_rotation-1-s1 [?]: wind" in out
+    assert "withheld: launch_rotation-1-s3 [?]: camera" in out
+    assert "launch_rotation-1-s2 [" not in out.split("by truth:")[1]
