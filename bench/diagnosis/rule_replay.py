@@ -85,6 +85,8 @@ def fields(e, options, r=None):
         "improved": cv.get("gliders_improved", 0),
         "gliders": cv.get("gliders", 0),
         "rate_pass": bool(rate.get("pass", False)) if isinstance(rate, dict) else True,
+        "rate_test": isinstance(rate, dict),
+        "rates_confirm": bool(options.get("launch_rates_confirm", False)),
         "plausible": bool(e.get("plausible", True)),
         "collinearity": e.get("coefficient_collinearity", 0.0),
         "margin": options.get("min_shrink", 0.05),
@@ -97,11 +99,27 @@ def fields(e, options, r=None):
     }
 
 
+def margin(f):
+    """The shrink an effect must reach (shrink_margin in the engine): the
+    margin, or for per-flight launch rotation confirmed by its rates
+    (launch_rates_confirm, since 2026-12-01) just above zero."""
+    return 0.0 if f["rates_confirm"] and f["rate_test"] and f["name"] == "launch_rotation" else f["margin"]
+
+
 def built(f):
     """The rule as built."""
     ho = (not f["ho_test"]) or f["ho_dchi2"] > f["ho_threshold"]
-    return f["lr_pass"] and f["shrink"] >= f["margin"] and ho and f["rate_pass"] and f["robust_pass"] and \
+    shrink = f["shrink"] >= margin(f) and (f["shrink"] > 0 or not f["rates_confirm"])
+    return f["lr_pass"] and shrink and ho and f["rate_pass"] and f["robust_pass"] and \
         f["plausible"] and f["bound_pass"]
+
+
+def rates_confirm(f):
+    """As built, with per-flight launch rotation confirmed by its rates
+    (launch_rates_confirm, on by default since 2026-12-01): its held-out
+    rates sharing a direction at alpha / m and any held-out shrink above
+    zero stand for the margin. Replays results of binaries from before it."""
+    return built(dict(f, rates_confirm=True))
 
 
 def heldout_for_collinear(f):
@@ -174,9 +192,28 @@ def launch_withheld(r):
     return False
 
 
+def launch_verdict(r):
+    """The verdict of a stored result under the launch rules of 2026-12-01
+    (launch_rates_confirm and launch_withhold, as in the engine): launch
+    rotation significant by its rates takes the verdict from wind, the
+    camera, `unexplained` or `none` (no other effect significant: none of
+    the others' decisions change); a session-wide verdict beside a launch
+    rotation that only fits becomes `unexplained`; an aerodynamic verdict
+    stands (launch rotation would at most join `also`). Results of binaries
+    with the rules are returned as stored."""
+    opts = r.get("options", {})
+    if "launch_rates_confirm" in opts or "verdict" not in r:
+        return r.get("verdict")
+    lr = [e for e in r["effects"] if e["name"] == "launch_rotation"]
+    if lr and rates_confirm(fields(lr[0], opts)) and (r["verdict"] in SESSION_WIDE + ("unexplained", "none")):
+        return "launch_rotation"
+    return "unexplained" if launch_withheld(r) else r["verdict"]
+
+
 RULES = [("as built", built), ("held-out alone for collinear effects", heldout_for_collinear),
          ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust),
-         ("glider guard at three quarters", guard_three_quarters), ("bound guard", bound_guard)]
+         ("glider guard at three quarters", guard_three_quarters), ("bound guard", bound_guard),
+         ("launch rotation confirmed by its rates", rates_confirm)]
 
 
 def main(argv=None):
@@ -269,6 +306,15 @@ def main(argv=None):
     for c in held:
         print("  withheld: %s [%s]: %s" % (c[1], c[4].get("bench_commit", "?"),
                                           c[4].get("withheld", {}).get("effect", c[4]["verdict"])))
+    # Both launch rules (launch_verdict): every verdict that changes.
+    print("\nlaunch rules of 2026-12-01 (rates confirm launch rotation; the withhold), verdicts that change:")
+    changed = [(c, launch_verdict(c[4])) for c in cases]
+    changed = [(c, v) for c, v in changed if v != c[4].get("verdict")]
+    for c, v in changed:
+        print("  %s [%s]: %s -> %s%s" % (c[1], c[4].get("bench_commit", "?"), c[4]["verdict"], v,
+                                         " (right)" if v in c[2] else ""))
+    if not changed:
+        print("  none")
     return 0
 
 

@@ -113,7 +113,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--profiled-candidates", "--step-alpha"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
-                             "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard", "--no-launch-withhold",
+                             "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard", "--no-launch-withhold", "--no-launch-rates-confirm",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
@@ -143,6 +143,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.glider_guard = !a.flag("--no-glider-guard");
   o.bound_guard = !a.flag("--no-bound-guard");
   o.launch_withhold = !a.flag("--no-launch-withhold");
+  o.launch_rates_confirm = !a.flag("--no-launch-rates-confirm");
   o.prefer_identifiable = a.flag("--prefer-identifiable");
   if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
   o.profile = !a.flag("--no-profile");
@@ -346,7 +347,11 @@ const bool registered_diagnose = register_command(
          "  --no-launch-withhold    name wind or the camera even when launch rotation fits the\n"
          "                          training flights too with the rates turning one way (by\n"
          "                          default such a verdict is withheld, `unexplained`, with the\n"
-         "                          effect under \"withheld\": a launch habit can imitate it)\n"
+         "                          effect under \"withheld\": a launch habit can imitate it;\n"
+         "                          launch rotation is named instead when significant)\n"
+         "  --no-launch-rates-confirm  hold per-flight launch rotation to the shrink margin (by\n"
+         "                          default its held-out rates sharing a direction confirm it,\n"
+         "                          with any held-out shrink above zero)\n"
          "  --prefer-identifiable   name a significant effect that re-tuned coefficients cannot\n"
          "                          imitate before a better one they can, unless the latter\n"
          "                          predicts the held-out gliders significantly better (paired\n"

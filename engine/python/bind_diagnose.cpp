@@ -91,6 +91,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("glider_guard")) o.glider_guard = kw["glider_guard"].cast<bool>();
   if (kw.contains("bound_guard")) o.bound_guard = kw["bound_guard"].cast<bool>();
   if (kw.contains("launch_withhold")) o.launch_withhold = kw["launch_withhold"].cast<bool>();
+  if (kw.contains("launch_rates_confirm")) o.launch_rates_confirm = kw["launch_rates_confirm"].cast<bool>();
   if (kw.contains("prefer_identifiable")) o.prefer_identifiable = kw["prefer_identifiable"].cast<bool>();
   if (kw.contains("carry_steps")) o.carry_steps = kw["carry_steps"].cast<bool>();
   if (kw.contains("heldout_steps")) o.heldout_steps = kw["heldout_steps"].cast<bool>();

@@ -334,22 +334,36 @@ bool glider_guard_pass(double robust_shrink, double margin, int improved, int to
   return robust_shrink >= margin || (total > 0 && 4 * improved >= 3 * total);
 }
 
+double shrink_margin(const DiagnoseOptions& o, Effect e) {
+  const bool rate_confirmed = o.launch_rates_confirm && o.launch_rotation_per_flight && e == Effect::LaunchRotation;
+  return rate_confirmed ? 0.0 : o.min_shrink;
+}
+
 namespace {
 // The decision rule, the same in both rounds: the likelihood-ratio test
-// passed (Holm), the held-out RMSE shrank by the margin, and the held-out
-// improvement exceeds its chi-square quantile.
-bool decision_rule(const DiagnoseOptions& o, bool lr_pass, double shrink, double holdout_delta_chi2,
+// passed (Holm), the held-out RMSE shrank by the effect's margin
+// (shrink_margin; at least above zero), and the held-out improvement
+// exceeds its chi-square quantile.
+bool decision_rule(const DiagnoseOptions& o, Effect e, bool lr_pass, double shrink, double holdout_delta_chi2,
                    double threshold) {
-  return lr_pass && shrink >= o.min_shrink && (!o.holdout_chi2_test || holdout_delta_chi2 > threshold);
+  return lr_pass && shrink > 0 && shrink >= shrink_margin(o, e) &&
+         (!o.holdout_chi2_test || holdout_delta_chi2 > threshold);
 }
 }  // namespace
 
 std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool own_limit) {
   // Whether the three tests alone (not the guards) would have passed it.
-  const bool decided = decision_rule(o, r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold);
+  const bool decided = decision_rule(o, r.effect, r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold);
+  const double margin = shrink_margin(o, r.effect);
   std::string n;
-  if (r.significant) n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
-                         ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
+  if (r.significant) {
+    n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
+        ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
+    if (r.rate_test && margin < o.min_shrink)
+      n += ", under the " + pct(o.min_shrink) + " margin, which a launch value is not held to: its held-out "
+           "flights' own rates share a direction (mean " + fmt(rad2deg(r.rate_mean), 3) + " deg/s, p " +
+           fmt(r.rate_mean_p, 2) + "), a launcher's rotation carried over to gliders it was not fitted to";
+  }
   else if (!r.bound_pass && r.shrink >= o.min_shrink)
     n = "predicts held-out gliders better (shrink " + pct(r.shrink) + "), but " + pct(r.bound_share) +
         " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
@@ -373,15 +387,15 @@ std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool ow
         ". More likely it absorbs another misfit (if the recording could be that far off, check it)";
   else if (r.shrink <= 0)
     n = "fits the training gliders better but predicts held-out gliders worse (shrink " + pct(r.shrink) + ")";
-  else if (r.shrink < o.min_shrink && r.holdout_delta_chi2 > r.holdout_threshold)
+  else if (r.shrink < margin && r.holdout_delta_chi2 > r.holdout_threshold)
     // Confirmed on held-out gliders, but too small a part of the gap to be
     // its cause (launch rotation data: 8 of 8 gliders better, 2.2 %; the
     // true effect added to the baseline closed 1.6 %).
     n = "fits the training gliders better and predicts held-out gliders better (" +
         std::to_string(r.gliders_improved) + " of " + std::to_string(r.gliders_total) + " gliders), but closes only " +
-        pct(r.shrink) + " of the held-out error, less than the " + pct(o.min_shrink) +
+        pct(r.shrink) + " of the held-out error, less than the " + pct(margin) +
         " margin: it is not what leaves the gap";
-  else if (r.shrink < o.min_shrink)
+  else if (r.shrink < margin)
     n = "fits the training gliders better but barely carries over to held-out gliders (shrink " + pct(r.shrink) + ")";
   else n = "held-out improvement within what fitting its strength to noise gives";
   if (r.strength_held)
@@ -396,7 +410,8 @@ std::string given_note(const EffectResult& r, const std::string& verdict, const 
   const auto& g = r.given_verdict;
   if (!g.tested) return {};
   const std::string with = "with " + verdict + " in the model, ";
-  const bool decided = decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
+  const bool decided = decision_rule(o, r.effect, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
+  const double margin = shrink_margin(o, r.effect);
   if (g.significant)
     return with + "significant: fits better (delta chi2 " + fmt(g.delta_chi2, 3) + ", p " + fmt(g.p_value, 2) +
            ") and predicts held-out gliders " + pct(g.shrink) + " better still";
@@ -414,15 +429,15 @@ std::string given_note(const EffectResult& r, const std::string& verdict, const 
   if (!g.plausible && decided)
     return with + "fits and predicts better (" + pct(g.shrink) + "), but at an implausible size (" +
            describe_parameters(r.effect, g.parameters) + ")";
-  if (g.shrink < o.min_shrink)
-    return with + "predicts held-out gliders " + pct(g.shrink) + " better, less than the " + pct(o.min_shrink) +
+  if (g.shrink < margin || g.shrink <= 0)
+    return with + "predicts held-out gliders " + pct(g.shrink) + " better, less than the " + pct(margin) +
            " margin";
   return with + "held-out improvement within what fitting its strength to noise gives";
 }
 
-std::string given_stopped_by(const EffectResult::Given& g, const DiagnoseOptions& o) {
+std::string given_stopped_by(const EffectResult::Given& g, const DiagnoseOptions& o, Effect e) {
   if (!g.tested || g.significant || (g.robust_pass && g.bound_pass) ||
-      !decision_rule(o, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold))
+      !decision_rule(o, e, g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold))
     return {};
   return g.bound_pass ? "glider" : "bound";
 }
@@ -484,28 +499,41 @@ const EffectResult* launch_rotation_that_fits(const std::vector<EffectResult>& e
 }
 }  // namespace
 
-bool launch_withheld(const std::vector<EffectResult>& effects, const std::string& verdict, double alpha) {
+std::string launch_withheld(const std::vector<EffectResult>& effects, const std::string& verdict, double alpha) {
   const auto v = std::find_if(effects.begin(), effects.end(), [&](const EffectResult& r) { return r.name == verdict; });
-  if (v == effects.end()) return false;  // none, unexplained
+  if (v == effects.end()) return {};  // none, unexplained
   const EffectLevel lv = effect_spec(v->effect).level;
-  return (lv == EffectLevel::Session || lv == EffectLevel::Observation) && launch_rotation_that_fits(effects, alpha);
+  if (lv != EffectLevel::Session && lv != EffectLevel::Observation) return {};
+  for (const auto& r : effects)
+    if (r.effect == Effect::LaunchRotation && r.significant) return r.name;
+  return launch_rotation_that_fits(effects, alpha) ? "unexplained" : "";
 }
 
 std::string withheld_sentence(const std::vector<EffectResult>& effects, const std::string& withheld, double margin,
                               double alpha) {
   const auto v = std::find_if(effects.begin(), effects.end(), [&](const EffectResult& r) { return r.name == withheld; });
-  const EffectResult* r = launch_rotation_that_fits(effects, alpha);
-  if (v == effects.end() || !r) return {};
+  const auto lr = std::find_if(effects.begin(), effects.end(),
+                               [](const EffectResult& r) { return r.effect == Effect::LaunchRotation; });
+  if (v == effects.end() || lr == effects.end()) return {};
+  const std::string why =
+      " A launcher's habitual rotation at release is taken up by each held-out flight's own rate, so launch "
+      "rotation gains little there, while a correction applied alike to every flight carries the habit over to the "
+      "held-out gliders: on blind launch-rotation data wind or the camera was so named 4 times in 4, and never on "
+      "data of another effect (docs/diagnosis.md, The launch withhold).";
+  const std::string cause = "left the hand without pitching, " + withheld +
+                            " is the likely cause (--no-launch-withhold names it).";
+  if (lr->significant)
+    return " " + withheld + " predicts the held-out gliders better still (" + pct(v->shrink) + ", fitted " +
+           describe_parameters(v->effect, v->parameters) + ") but is not named: the held-out flights' own launch "
+           "rates share a direction (mean " + fmt(rad2deg(lr->rate_mean), 3) + " deg/s, p " +
+           fmt(lr->rate_mean_p, 2) + ")." + why + " If the gliders " + cause;
+  if (!launch_rotation_that_fits(effects, alpha)) return {};
   return " " + withheld + " would cut it by " + pct(v->shrink) + " (fitted " +
-         describe_parameters(v->effect, v->parameters) + ") and passes every test, but it is not named: " + r->name +
-         " fits the training flights significantly better too (p " + fmt(r->p_value, 2) + "; " +
-         describe_parameters(r->effect, r->parameters) + "), the flights' own rates turning one way, yet closes " +
-         (r->shrink < margin ? "only " : "") + pct(r->shrink) +
-         " of the held-out error. A launcher's habitual rotation at release is taken up by each held-out flight's "
-         "own rate, and a correction applied alike to every flight then carries it over to the held-out gliders: "
-         "on blind launch-rotation data wind or the camera was so named 4 times in 4, and never on data of another "
-         "effect (docs/diagnosis.md, The launch withhold). Check how the gliders were launched: if they left the "
-         "hand without pitching, " + withheld + " is the likely cause (--no-launch-withhold names it).";
+         describe_parameters(v->effect, v->parameters) + ") and passes every test, but it is not named: " + lr->name +
+         " fits the training flights significantly better too (p " + fmt(lr->p_value, 2) + "; " +
+         describe_parameters(lr->effect, lr->parameters) + "), the flights' own rates turning one way, yet closes " +
+         (lr->shrink < margin ? "only " : "") + pct(lr->shrink) + " of the held-out error." + why +
+         " Check how the gliders were launched: if they " + cause;
 }
 
 std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin,
@@ -2054,8 +2082,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     timings["heldout_steps_s"] = since(ts);
   }
   // The decision rule (decision_rule), the same in both rounds.
-  auto decided = [&](bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
-    return decision_rule(o, lr_pass, shrink, holdout_delta_chi2, threshold);
+  auto decided = [&](Effect e, bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
+    return decision_rule(o, e, lr_pass, shrink, holdout_delta_chi2, threshold);
   };
   // Holm's step-down over the library.
   {
@@ -2090,7 +2118,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   }
   for (auto& r : res.effects)
     r.significant =
-        decided(r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass && r.robust_pass &&
+        decided(r.effect, r.lr_pass, r.shrink, r.holdout_delta_chi2, r.holdout_threshold) && r.rate_mean_pass &&
+        r.robust_pass &&
         r.plausible && r.bound_pass;
 
   // ------------------------------------------------------------ identifiability
@@ -2325,8 +2354,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         o.profile && o.polish <= 0 &&
         centre_count((o.full_fit ? eff_full[best] : fold_trs[0][best]).model.coefficients) > 0;
     auto lr_passes = [&](const EffectResult::Given& g) { return g.p_value <= o.alpha / static_cast<double>(rest.size()); };
-    auto holdout_passes = [&](const EffectResult::Given& g) {
-      return decided(true, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
+    auto holdout_passes = [&](Effect E, const EffectResult::Given& g) {
+      return decided(E, true, g.shrink, g.holdout_delta_chi2, g.holdout_threshold);
     };
     bool folds_profiled = true;
     for (int k = 0; k < K; ++k) folds_profiled = folds_profiled && profiled_on(gliders_of(fold_train[k]));
@@ -2335,7 +2364,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       for (int e : rest) {
         EffectResult::Given& g = res.effects[e].given_verdict;
         const Effect E = o.effects[e];
-        if (per_flight(E) || !lr_passes(g) || holdout_passes(g)) continue;
+        if (per_flight(E) || !lr_passes(g) || holdout_passes(E, g)) continue;
         double cand_ho = 0, alone_ho = 0;
         std::map<int, double> gs_alone, gs_cand;
         std::vector<std::vector<double>> fp(K);
@@ -2385,7 +2414,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       for (int e : rest) {
         EffectResult::Given& g = res.effects[e].given_verdict;
         const Effect E = o.effects[e];
-        if (per_flight(E) || !holdout_passes(g) || (lr_passes(g) && !g.retuned)) continue;
+        if (per_flight(E) || !holdout_passes(E, g) || (lr_passes(g) && !g.retuned)) continue;
         const std::string label = "all gliders, with " + effect_name(B);
         const Retuned r = retuned_pair(eff_full[best], all_flights, e, label);
         const double dsse = r.alone.sse - r.cand.sse;
@@ -2452,7 +2481,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     }
     for (int e : rest) {
       auto& g = res.effects[e].given_verdict;
-      g.significant = decided(g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold) &&
+      g.significant = decided(o.effects[e], g.lr_pass, g.shrink, g.holdout_delta_chi2, g.holdout_threshold) &&
                       res.effects[e].rate_mean_pass && g.plausible && g.robust_pass && g.bound_pass;
     }
     // The reverse test for each effect of `also`: is the verdict's effect
@@ -2479,7 +2508,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       const double s2_ho = std::max(s2, sse2_ho[e] / std::max(1.0, dof_ho - dof_ho_of(B) - dof_ho_of(E)));
       g.reverse_holdout_delta_chi2 = (sse_ho[e] - sse2_ho[e]) / s2_ho;
       g.reverse_threshold = chi2_isf(o.alpha / static_cast<double>(rest.size()), dof_ho_of(B));
-      g.verdict_still_needed = decided(g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()),
+      g.verdict_still_needed = decided(B, g.reverse_p_value <= o.alpha / static_cast<double>(rest.size()),
                                        g.reverse_shrink, g.reverse_holdout_delta_chi2, g.reverse_threshold);
       g.reverse_tested = true;
     }
@@ -2492,14 +2521,18 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     timings["second_round_s"] = since(t2);
   }
   // The launch withhold (DiagnoseOptions::launch_withhold): a session-wide
-  // verdict beside a launch rotation that fits the training flights is not
-  // named. What the second round said was said of it, so goes with it.
-  if (o.launch_withhold && launch_withheld(res.effects, res.verdict, o.alpha)) {
+  // verdict beside a launch rotation that is significant, or that fits the
+  // training flights, gives way to it or to `unexplained`. What the second
+  // round said was said of it, so goes with it.
+  if (const std::string to = o.launch_withhold ? launch_withheld(res.effects, res.verdict, o.alpha) : "";
+      !to.empty()) {
     report("analysis", res.verdict + " is withheld: launch rotation fits the training flights too, with the rates "
-                       "turning one way (a launch habit a session-wide correction can imitate); the verdict is "
-                       "unexplained", false);
+                       "turning one way (a launch habit a session-wide correction can imitate); the verdict is " +
+                       to, false);
     res.withheld = res.verdict;
-    res.verdict = "unexplained";
+    res.verdict = to;
+    for (int e = 0; e < ne; ++e)
+      if (res.effects[e].name == to) best = e;
     res.also.clear();
     res.alternatives.clear();
     res.replaced.clear();
@@ -2509,7 +2542,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   for (std::size_t i = 0; i < res.effects.size(); ++i) {
     res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
     res.effects[i].given_verdict.note = given_note(res.effects[i], given_of, o);
-    res.effects[i].given_verdict.stopped_by_guard = given_stopped_by(res.effects[i].given_verdict, o);
+    res.effects[i].given_verdict.stopped_by_guard = given_stopped_by(res.effects[i].given_verdict, o, res.effects[i].effect);
   }
 
   // ------------------------------------------------------------ where
@@ -2662,15 +2695,17 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       // verdict), nor for an alternative (the sentence on alternatives says
       // what holds for it: with either in the model the other adds nothing
       // that survives the guards).
+      // Not after the launch withhold either: the second round was made with
+      // the withheld verdict.
       int guarded = 0;
-      if (res.replaced.empty())
+      if (res.replaced.empty() && res.withheld.empty())
         for (const auto& x : res.effects)
           if (!x.given_verdict.stopped_by_guard.empty() &&
               std::find(res.alternatives.begin(), res.alternatives.end(), x.name) == res.alternatives.end()) {
             s << " " << x.name << ", " << x.given_verdict.note << ".";
             ++guarded;
           }
-      if (res.also.empty() && guarded == 0 && o.second_effect && others > 0)
+      if (res.also.empty() && res.withheld.empty() && guarded == 0 && o.second_effect && others > 0)
         s << " With " << b.name << " in the model none of them improves the prediction further: they explain the "
                                    "same misfit.";
       if (!b.confusable.empty()) {
@@ -2680,6 +2715,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         else s << ".";
       }
       if (b.indistinguishable) s << " Caution: " << b.note.substr(b.note.find("; ") + 2) << ".";
+      if (!res.withheld.empty()) s << withheld_sentence(res.effects, res.withheld, o.min_shrink, o.alpha);
     } else if (res.verdict == "none") {
       s << "The baseline model predicts the held-out gliders to within the tracking noise (held-out error "
         << cm(res.holdout_rmse_m) << ", noise alone " << cm(res.noise_rmse_m)
@@ -2942,6 +2978,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"glider_guard", o.glider_guard},
                   {"bound_guard", o.bound_guard},
                   {"launch_withhold", o.launch_withhold},
+                  {"launch_rates_confirm", o.launch_rates_confirm},
                   {"prefer_identifiable", o.prefer_identifiable},
                   {"none_tolerance", o.none_tolerance},
                   {"collinearity_limit", o.collinearity_limit},

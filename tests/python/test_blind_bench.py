@@ -418,7 +418,7 @@ def test_rule_replay_counts_the_verdicts_the_launch_withhold_takes_back(tmp_path
     # the same launch rotation is not (aerodynamic); a result that already
     # carries `withheld` (a binary with the rule) counts as withheld.
     def lr(p_rates):
-        e = _stored("launch_rotation", True, 0.02, 3.0, False)
+        e = _stored("launch_rotation", True, 0.02, 40.0, False)
         e["rate_mean"] = {"p_value": p_rates, "pass": p_rates < 0.01 / 9}
         return e
 
@@ -433,10 +433,29 @@ def test_rule_replay_counts_the_verdicts_the_launch_withhold_takes_back(tmp_path
     write("launch_rotation-1-s2", "wind", [wind, lr(0.4)])
     write("launch_rotation-1-s3", "unexplained", [dict(wind), lr(0.002)], withheld={"effect": "camera"})
     write("pitch_damping-1-s4", "pitch_damping", [pd, lr(0.002)])
+    # With the rates confirming launch rotation (launch_rates_confirm): its
+    # rates' p 1e-4 under alpha / 9 with a held-out shrink of 2 % above zero
+    # and its held-out chi-square 40 over 10 make it significant, and it
+    # takes the verdict from wind (s5), from `unexplained` (s6), not from
+    # pitch damping (s7); at p 0.002 (s1) it only fits, and wind is withheld.
+    write("launch_rotation-1-s5", "wind", [wind, lr(1e-4)])
+    write("launch_rotation-1-s6", "unexplained", [lr(1e-4)])
+    write("pitch_damping-1-s7", "pitch_damping", [pd, lr(1e-4)])
     assert rr.launch_withheld(json.loads((tmp_path / "launch_rotation-1-s1" / "diagnosis.json").read_text()))
     assert rr.main([str(tmp_path)]) == 0
     out = capsys.readouterr().out
-    assert "by truth: launch_rotation 2 of 3, pitch_damping 0 of 1" in out
+    assert "by truth: launch_rotation 3 of 5, pitch_damping 0 of 2" in out
     assert "withheld: launch_rotation-1-s1 [?]: wind" in out
     assert "withheld: launch_rotation-1-s3 [?]: camera" in out
     assert "launch_rotation-1-s2 [" not in out.split("by truth:")[1]
+    rules = out.split("launch rules of 2026-12-01")[1]
+    assert "launch_rotation-1-s1 [?]: wind -> unexplained\n" in rules
+    assert "launch_rotation-1-s5 [?]: wind -> launch_rotation (right)" in rules
+    assert "launch_rotation-1-s6 [?]: unexplained -> launch_rotation (right)" in rules
+    assert "s2 [" not in rules and "s3 [" not in rules and "s4 [" not in rules and "s7 [" not in rules
+    # By hand: as built, pitch damping is found on s4 and s7 and wind is
+    # significant beside launch rotation on s1, s2, s3 and s5; with the
+    # rates confirming it, launch rotation is found on s5 and s6 too, and is
+    # significant beside pitch damping on s7.
+    assert "| as built | 0 of 0 (95 % bound nan %) | 2 of 7 | 4 of 7 |" in out
+    assert "| launch rotation confirmed by its rates | 0 of 0 (95 % bound nan %) | 4 of 7 | 5 of 7 |" in out

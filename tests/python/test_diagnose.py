@@ -87,7 +87,13 @@ def test_verdict_agrees_with_the_significance_decisions(camera_case):
         assert j["verdict"] in sig and not by[j["verdict"]]["indistinguishable_from_coefficients"]
         assert p["paired_t"] < p["t_critical"]
         sig = [j["verdict"]]
-    if j["verdict"] in LIBRARY and "replaced" in j:
+    if "withheld" in j:
+        # The launch withhold (docs/diagnosis.md): a wind or camera verdict
+        # gave way to a significant launch rotation, or to `unexplained`.
+        assert j["withheld"]["effect"] in ("wind", "camera") and j["withheld"]["effect"] in sig
+        assert j["verdict"] == ("launch_rotation" if "launch_rotation" in sig else "unexplained")
+        assert j["also"] == [] and j["alternatives"] == []
+    elif j["verdict"] in LIBRARY and "replaced" in j:
         # The second round replaced the first significant effect by one that
         # makes it superfluous (docs/diagnosis.md); both are significant alone.
         assert j["replaced"] == sig[0] and j["verdict"] in sig
@@ -103,20 +109,26 @@ def test_each_effects_note_states_its_own_tests(camera_case):
     """The note a person reads says which of the three tests (docs/diagnosis.md)
     decided, in agreement with the numbers beside it."""
     _, j, _, _ = camera_case
-    margin = j["options"]["min_shrink"]
+    opts = j["options"]
     for e in j["effects"]:
         lr, cv, n = e["likelihood_ratio"], e["cross_validation"], e["note"]
+        # Per-flight launch rotation is confirmed by its rates, not held to
+        # the margin (launch_rates_confirm): any shrink above zero.
+        rate_confirmed = (e["name"] == "launch_rotation" and opts["launch_rates_confirm"]
+                          and opts["launch_rotation"] == "per-flight")
+        margin = 0.0 if rate_confirmed else opts["min_shrink"]
+        decided = lr["pass"] and e["shrink"] > 0 and e["shrink"] >= margin and cv["delta_chi2"] > cv["threshold"]
         if e["significant"]:
             assert n.startswith("significant"), (e["name"], n)
         elif not cv["bound_pass"] and e["shrink"] >= margin:
             assert "edge of the correction's range" in n, (e["name"], n)
         elif not lr["pass"]:
             assert n.startswith("not significant on the training gliders"), (e["name"], n)
-        elif (not cv["robust_pass"] and e.get("rate_mean", {}).get("pass", True) and e["shrink"] >= margin
-              and cv["delta_chi2"] > cv["threshold"]):
+        elif not e.get("rate_mean", {}).get("pass", True) and decided:
+            assert "do not share a direction" in n, (e["name"], n)
+        elif not cv["robust_pass"] and decided:
             assert "rests on one glider" in n and cv["robust_without"] in n, (e["name"], n)
-        elif (not e["plausible"] and e.get("rate_mean", {}).get("pass", True) and e["shrink"] >= margin
-              and cv["delta_chi2"] > cv["threshold"]):
+        elif not e["plausible"] and decided:
             assert "implausible size" in n, (e["name"], n)
         elif e["shrink"] <= 0:
             assert "predicts held-out gliders worse" in n, (e["name"], n)
@@ -333,11 +345,12 @@ def test_null_data_give_no_discovery(tmp_path):
     # passes all four through (null data: nothing may be significant with or
     # without them).
     j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, heldout_steps=False, escalate=False,
-                          bound_guard=False, refit_unstepped=False, launch_withhold=False,
+                          bound_guard=False, refit_unstepped=False, launch_withhold=False, launch_rates_confirm=False,
                           progress=lambda p: msgs.append(p))
     assert j["options"]["heldout_steps"] is False and j["options"]["escalate"] is False
     assert j["options"]["bound_guard"] is False
     assert j["options"]["launch_withhold"] is False and "withheld" not in j
+    assert j["options"]["launch_rates_confirm"] is False
     assert j["options"]["refit_unstepped"] is False
     assert j["format"] == "pteromys-diagnosis/1"
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
@@ -367,18 +380,21 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["bound_guard"] is True
     # the launch withhold is on, and the camera's verdict was not withheld
     assert camera_case[1]["options"]["launch_withhold"] is True and "withheld" not in camera_case[1]
+    assert camera_case[1]["options"]["launch_rates_confirm"] is True
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
                                                "--no-carry-steps", "--no-bound-guard", "--no-heldout-steps",
-                                               "--no-unstepped-refit", "--no-launch-withhold"])
+                                               "--no-unstepped-refit", "--no-launch-withhold",
+                                               "--no-launch-rates-confirm"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
     assert j["options"]["glider_guard"] is False
     assert j["options"]["bound_guard"] is False
     assert j["options"]["launch_withhold"] is False
+    assert j["options"]["launch_rates_confirm"] is False
     assert j["options"]["heldout_steps"] is False
     assert all(e["cross_validation"]["bound_pass"] for e in j["effects"])  # no guard, nothing it stops
     assert j["options"]["prefer_identifiable"] is True

@@ -22,8 +22,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
-             profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, heldout_steps=True,
-             escalate=False,
+             profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
+             heldout_steps=True, escalate=False,
              prefer_identifiable=False, step_alpha=1.0, carry_steps=True, theory_starts=False, hold_theory=False,
              step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
@@ -55,7 +55,11 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``launch_withhold`` (default True): a wind or camera verdict beside a
     launch rotation that fits the training flights (its rates turning one
     way) but is not significant is withheld: the verdict is "unexplained"
-    and result key ``withheld`` names the effect.
+    and result key ``withheld`` names the effect; when launch rotation is
+    significant it is the verdict instead.
+    ``launch_rates_confirm`` (default True): per-flight launch rotation is
+    confirmed by its held-out rates sharing a direction, with any held-out
+    shrink above zero, rather than held to ``min_shrink``.
     ``heldout_steps`` (default True): a candidate the held-out gliders
     confirm but whose gain on all gliders was under the screen is refitted
     from its linearised step there before its likelihood-ratio test.
@@ -87,7 +91,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),
                 profile_min_gliders=profile_min_gliders, profiled_candidates=profiled_candidates,
                 glider_guard=bool(glider_guard), bound_guard=bool(bound_guard),
-                launch_withhold=bool(launch_withhold), heldout_steps=bool(heldout_steps),
+                launch_withhold=bool(launch_withhold), launch_rates_confirm=bool(launch_rates_confirm),
+                heldout_steps=bool(heldout_steps),
                 escalate=bool(escalate),
                 prefer_identifiable=bool(prefer_identifiable), step_alpha=step_alpha, carry_steps=bool(carry_steps),
                 theory_starts=bool(theory_starts), hold_theory=bool(hold_theory),
