@@ -1673,7 +1673,10 @@ TEST(DiagnoseStatistics, ASessionWideVerdictIsWithheldWhenLaunchRotationFitsTheL
   EXPECT_NE(s.find("launch_rotation fits the training flights"), std::string::npos) << s;
   EXPECT_NE(s.find("63.8"), std::string::npos) << s;
   EXPECT_NE(s.find("closes only 1.7 % of the held-out error"), std::string::npos) << s;
-  EXPECT_NE(s.find("Check how the gliders were launched: if they left the hand without pitching, wind is the likely cause (--no-launch-withhold names it)."), std::string::npos) << s;
+  EXPECT_NE(s.find("Check how the gliders were launched: if they left the hand without pitching, wind is the likely "
+                   "cause (--no-launch-withhold names it)."),
+            std::string::npos)
+      << s;
   EXPECT_EQ(withheld_sentence(all, "camera", 0.05, 0.01).rfind(" camera would cut it by 12 %", 0), 0u);
   // Significant (its rates confirm it, launch_rates_confirm), launch
   // rotation takes the verdict from wind or the camera, not from an
