@@ -2924,11 +2924,15 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   j["also"] = r.also;
   if (!r.replaced.empty()) j["replaced"] = r.replaced;
   if (!r.withheld.empty())
-    j["withheld"] = {{"effect", r.withheld},
-                     {"because", effect_name(Effect::LaunchRotation)},
-                     {"reason", "launch rotation fits the training flights significantly, the flights' rates turning "
-                                "one way, but is not significant: a launch habit that a correction applied alike to "
-                                "every flight can carry to the held-out gliders"}};
+    j["withheld"] = {
+        {"effect", r.withheld},
+        {"because", effect_name(Effect::LaunchRotation)},
+        {"reason", r.verdict == effect_name(Effect::LaunchRotation)
+                       ? "launch rotation is significant, its held-out flights' rates sharing a direction: a launch "
+                         "habit that a correction applied alike to every flight can imitate on the held-out gliders"
+                       : "launch rotation fits the training flights significantly, the flights' rates turning one "
+                         "way, but is not significant: a launch habit that a correction applied alike to every "
+                         "flight can carry to the held-out gliders"}};
   if (!r.passed_over.empty())
     j["passed_over"] = {{"effect", r.passed_over},
                         {"paired_t", r.passed_over_t},
