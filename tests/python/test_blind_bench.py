@@ -353,8 +353,8 @@ def test_the_documented_confusion_matrix_is_the_tables_count():
     recounted from the top-1 table: every cell, and each row's hits."""
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     table = _top1_table(text)
-    head, rows = _rows_after(text, "| truth (nameable) \\ verdict | camera | downwash | finite_span | pitch_damping "
-                                   "| wind | none | unexplained | named right |")
+    head, rows = _rows_after(text, "| truth (nameable) \\ verdict | camera | downwash | finite_span | launch_rotation "
+                                   "| pitch_damping | wind | none | unexplained | named right |")
     verdicts = [h.strip() for h in head[1:-1]]
     truths = sorted({case.split("-")[0] for case, _, _, _ in table})
     assert [r[0] for r in rows] == truths, "one row per true effect in the table"
