@@ -1570,7 +1570,12 @@ TEST(DiagnoseStatistics, TheGuardThatStoppedASecondEffectIsNamedOnlyWhenTheTests
 // verdict wind; launch rotation p 3e-13, 63.8 deg/s, 1.65 % held out, "1.7 %") and
 // s32 (`unexplained`). Nothing when it did not pass the test, when it is
 // itself significant or the verdict, or for `none`.
-TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerdict) {
+namespace {
+// Launch rotation and wind as blind launch rotation s34 gave them: launch
+// rotation passed its likelihood-ratio test (p 3e-13) at 63.8 deg/s,
+// 1.65 % held out, its per-flight rates' mean at p 0.0021, not significant;
+// wind significant, the verdict.
+EffectResult s34_launch_rotation() {
   EffectResult lr;
   lr.effect = Effect::LaunchRotation;
   lr.name = effect_name(Effect::LaunchRotation);
@@ -1578,13 +1583,23 @@ TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerd
   lr.p_value = 3e-13;
   lr.parameters = {deg2rad(63.8)};
   lr.shrink = 0.0165;
-  lr.rate_test = true;  // per-flight rates whose mean the t-test puts at p 0.0021 (s34)
+  lr.rate_test = true;
+  lr.rate_mean = deg2rad(63.8);
   lr.rate_mean_p = 0.0021;
+  return lr;
+}
+EffectResult s34_wind() {
   EffectResult wind;
   wind.effect = Effect::Wind;
   wind.name = "wind";
   wind.significant = true;
   wind.lr_pass = true;
+  return wind;
+}
+}  // namespace
+
+TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerdict) {
+  const EffectResult lr = s34_launch_rotation(), wind = s34_wind();
   const std::vector<EffectResult> both = {wind, lr};
   std::string s = launch_caution(both, "wind", 0.05, 0.01);
   EXPECT_EQ(s.rfind(" launch_rotation also fits the training flights significantly better (p 3e-13; ", 0), 0u) << s;
@@ -1628,21 +1643,8 @@ TEST(DiagnoseStatistics, TheSummaryCautionsWhenLaunchRotationFitsButIsNotTheVerd
 // itself, none or unexplained, nor when launch rotation failed its test or
 // its rates scatter both ways.
 TEST(DiagnoseStatistics, ASessionWideVerdictIsWithheldWhenLaunchRotationFitsTheLaunches) {
-  EffectResult lr;
-  lr.effect = Effect::LaunchRotation;
-  lr.name = effect_name(Effect::LaunchRotation);
-  lr.lr_pass = true;
-  lr.p_value = 3e-13;
-  lr.parameters = {deg2rad(63.8)};
-  lr.shrink = 0.0165;
-  lr.rate_test = true;
-  lr.rate_mean = deg2rad(63.8);
-  lr.rate_mean_p = 0.0021;
-  EffectResult wind;
-  wind.effect = Effect::Wind;
-  wind.name = "wind";
-  wind.significant = true;
-  wind.lr_pass = true;
+  const EffectResult lr = s34_launch_rotation();
+  EffectResult wind = s34_wind();
   wind.shrink = 0.123;
   wind.parameters = {0.6};
   EffectResult camera = wind;
