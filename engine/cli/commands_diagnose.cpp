@@ -113,7 +113,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--profiled-candidates", "--step-alpha"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
-                             "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard", "--no-launch-withhold", "--no-launch-rates-confirm",
+                             "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard",
+                             "--no-launch-withhold", "--no-launch-rates-confirm",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",

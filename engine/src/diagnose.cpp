@@ -359,12 +359,12 @@ std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool ow
   if (r.significant) {
     n = "significant: fits better (delta chi2 " + fmt(r.delta_chi2, 3) + ", p " + fmt(r.p_value, 2) +
         ") and predicts held-out gliders better (shrink " + pct(r.shrink) + ")";
-    if (r.rate_test && margin < o.min_shrink)
+    if (r.rate_test && r.shrink < o.min_shrink)
       n += ", under the " + pct(o.min_shrink) + " margin, which a launch value is not held to: its held-out "
            "flights' own rates share a direction (mean " + fmt(rad2deg(r.rate_mean), 3) + " deg/s, p " +
            fmt(r.rate_mean_p, 2) + "), a launcher's rotation carried over to gliders it was not fitted to";
   }
-  else if (!r.bound_pass && r.shrink >= o.min_shrink)
+  else if (!r.bound_pass && r.shrink >= margin)
     n = "predicts held-out gliders better (shrink " + pct(r.shrink) + "), but " + pct(r.bound_share) +
         " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
         describe_fold_range(r.effect, r.fold_parameters) +
@@ -415,7 +415,7 @@ std::string given_note(const EffectResult& r, const std::string& verdict, const 
   if (g.significant)
     return with + "significant: fits better (delta chi2 " + fmt(g.delta_chi2, 3) + ", p " + fmt(g.p_value, 2) +
            ") and predicts held-out gliders " + pct(g.shrink) + " better still";
-  if (!g.bound_pass && g.shrink >= o.min_shrink)
+  if (!g.bound_pass && g.shrink >= margin)
     return with + "predicts held-out gliders " + pct(g.shrink) + " better, but " + pct(g.bound_share) +
            " of that gain comes from folds whose fit ran to the edge of the correction's range (" +
            describe_fold_range(r.effect, g.fold_parameters) + "): not counted";
@@ -2542,7 +2542,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   for (std::size_t i = 0; i < res.effects.size(); ++i) {
     res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
     res.effects[i].given_verdict.note = given_note(res.effects[i], given_of, o);
-    res.effects[i].given_verdict.stopped_by_guard = given_stopped_by(res.effects[i].given_verdict, o, res.effects[i].effect);
+    res.effects[i].given_verdict.stopped_by_guard =
+        given_stopped_by(res.effects[i].given_verdict, o, res.effects[i].effect);
   }
 
   // ------------------------------------------------------------ where

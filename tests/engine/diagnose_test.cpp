@@ -1725,6 +1725,18 @@ TEST(DiagnoseStatistics, PerFlightLaunchRotationIsConfirmedByItsRatesNotTheMargi
   EXPECT_NE(n.find("shrink 1.6 %), under the 5.0 % margin, which a launch value is not held to"), std::string::npos)
       << n;
   EXPECT_NE(n.find("mean 63.8 deg/s, p 0.00072"), std::string::npos) << n;
+  // Over the margin it is not said to be under it.
+  lr.shrink = 0.062;
+  EXPECT_EQ(effect_note(lr, o, false).find("under the"), std::string::npos) << effect_note(lr, o, false);
+  // Stopped by the bound guard with a shrink under the 5 % margin but over
+  // its own (0): the note names the guard, as for any effect over its margin.
+  lr.significant = false;
+  lr.shrink = 0.02;
+  lr.bound_pass = false;
+  lr.bound_share = 0.8;
+  lr.fold_parameters = {{19.0}, {19.5}, {0.5}, {0.4}};
+  EXPECT_NE(effect_note(lr, o, false).find("edge of the correction's range"), std::string::npos)
+      << effect_note(lr, o, false);
 }
 
 // A linearised step that overshoots is given up after its first fit and
