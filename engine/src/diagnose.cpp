@@ -518,8 +518,9 @@ std::string withheld_sentence(const std::vector<EffectResult>& effects, const st
   const std::string why =
       " A launcher's habitual rotation at release is taken up by each held-out flight's own rate, so launch "
       "rotation gains little there, while a correction applied alike to every flight carries the habit over to the "
-      "held-out gliders: on blind launch-rotation data wind or the camera was so named 4 times in 4, and never on "
-      "data of another effect (docs/diagnosis.md, The launch withhold).";
+      "held-out gliders: on the blind benchmark to 2026-12-01 wind or the camera was so named on 4 of 4 "
+      "launch-rotation datasets where launch rotation fitted this way, and on no dataset of another effect "
+      "(docs/diagnosis.md, The launch withhold).";
   const std::string cause = "left the hand without pitching, " + withheld +
                             " is the likely cause (--no-launch-withhold names it).";
   if (lr->significant)
