@@ -469,6 +469,42 @@ double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_p
   return all > 0 ? at_edge / all : 0.0;
 }
 
+// An aerodynamic correction's strength is a multiple of its theory, which
+// is approximate to a factor of about two (the downwash correction gives
+// 1.04-1.85 times the reference lattice's pitching moment across the
+// training gliders): a fit beyond twice the theory is a correction
+// stretched to fit something else (range_edge_sentence).
+constexpr double kStrainedStrength = 2.0;
+
+std::string range_edge_sentence(Effect e, const std::vector<double>& params) {
+  const auto& ps = effect_spec(e).parameters;
+  if (params.size() != ps.size())
+    throw InputError("range check: " + std::to_string(params.size()) + " parameters, " + effect_name(e) + " has " +
+                     std::to_string(ps.size()));
+  // Fuselage drag's theory (laminar friction alone) underestimates a
+  // plate's drag by construction (engine/src/effects.cpp): its range only.
+  const bool aero = effect_spec(e).level == EffectLevel::Aerodynamic && e != Effect::FuselageDrag;
+  std::string at;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    const double v = params[i];
+    if (!std::isfinite(v)) throw InputError("range check: " + effect_name(e) + "'s " + ps[i].name + " is not finite");
+    const bool edge = (ps[i].upper > 0 && v >= 0.9 * ps[i].upper) || (ps[i].lower < 0 && v <= 0.9 * ps[i].lower);
+    if (aero && (edge || v > kStrainedStrength))
+      at += std::string(at.empty() ? "" : " and ") + ps[i].name + " " + fmt(v * ps[i].to_report, 3) + ", " +
+            (v > kStrainedStrength ? "more than " + fmt(kStrainedStrength, 3) + " times" : "near") +
+            " its theoretical size (range " + fmt(ps[i].lower * ps[i].to_report, 3) + " to " +
+            fmt(ps[i].upper * ps[i].to_report, 3) + ")";
+    else if (edge)
+      at += std::string(at.empty() ? "" : " and ") + ps[i].name + " " + fmt(v * ps[i].to_report, 3) +
+            ", near the end of the range allowed (" + fmt(ps[i].lower * ps[i].to_report, 3) + " to " +
+            fmt(ps[i].upper * ps[i].to_report, 3) + ")";
+  }
+  if (at.empty()) return {};
+  return " Caution on its size: " + at +
+         ". A correction stretched that far may be absorbing a misfit of another kind rather than measuring " +
+         effect_name(e) + "; weigh the other candidates before taking it as the cause.";
+}
+
 HeldOutGuards held_out_guards(Effect e, const std::vector<double>& baseline_sse, const std::vector<double>& effect_sse,
                               const std::vector<std::vector<double>>& fold_params, const std::vector<double>& fold_gain,
                               const DiagnoseOptions& o) {
@@ -2642,6 +2678,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       if (effect_spec(b.effect).level == EffectLevel::Aerodynamic && !b.parameters.empty())
         s << " (1 would be its theoretical size)";
       s << ".";
+      if (b.parameters.size() == effect_spec(b.effect).parameters.size())
+        s << range_edge_sentence(b.effect, b.parameters);
       auto named = [&](const std::string& n) -> const EffectResult& {
         return *std::find_if(res.effects.begin(), res.effects.end(), [&](const EffectResult& y) { return y.name == n; });
       };

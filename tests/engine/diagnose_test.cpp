@@ -1357,6 +1357,34 @@ TEST(DiagnoseStatistics, TheBoundGuardCountsTheGainOfFoldsFittedAtTheEdgeOfTheRa
   EXPECT_THROW(fold_bound_share(Effect::AddedMass, {{1}}, {std::numeric_limits<double>::infinity()}), InputError);
 }
 
+// A named effect's fitted size (on all gliders) draws a caution in the
+// summary when an aerodynamic strength exceeds twice its theory (blind
+// pitch damping s37 named added mass at 2.55, wrong; 1.9 passes) or any
+// parameter lies in the outer tenth of its range: a 14 m/s wind of a range
+// +-15; the camera's roll in degrees (0.46 rad = 26.4 deg, range +-28.6
+// deg). Unremarkable sizes: "".
+TEST(DiagnoseStatistics, AVerdictFittedFarBeyondItsTheoryOrNearItsRangesEndIsFlagged) {
+  const auto has = [](const std::string& n, const std::string& part) { return n.find(part) != std::string::npos; };
+  std::string n = range_edge_sentence(Effect::AddedMass, {2.55});
+  EXPECT_TRUE(has(n, "strength 2.55, more than 2 times its theoretical size (range 0 to 3)")) << n;
+  EXPECT_TRUE(has(n, "rather than measuring added_mass")) << n;
+  EXPECT_EQ(range_edge_sentence(Effect::AddedMass, {1.9}), "");
+  EXPECT_EQ(range_edge_sentence(Effect::PitchDamping, {0.6}), "");
+  EXPECT_EQ(range_edge_sentence(Effect::AddedMass, {0.0}), "");
+  // Fuselage drag's theory underestimates by construction (range 0 to 10).
+  EXPECT_EQ(range_edge_sentence(Effect::FuselageDrag, {4.0}), "");
+  EXPECT_TRUE(has(range_edge_sentence(Effect::FuselageDrag, {9.5}), "strength 9.5, near the end of the range"));
+  n = range_edge_sentence(Effect::Wind, {-14.0});
+  EXPECT_TRUE(has(n, "wind_m_s -14, near the end of the range allowed (-15 to 15)")) << n;
+  EXPECT_EQ(range_edge_sentence(Effect::Wind, {-1.0}), "");
+  n = range_edge_sentence(Effect::Camera, {0.01, 0.46});
+  EXPECT_TRUE(has(n, "26.4, near the end of the range allowed (-28.6 to 28.6)")) << n;
+  EXPECT_FALSE(has(n, " and ")) << n;  // the scale is inside
+  EXPECT_EQ(range_edge_sentence(Effect::Camera, {0.03, 0.035}), "");
+  EXPECT_THROW(range_edge_sentence(Effect::Camera, {0.01}), InputError);
+  EXPECT_THROW(range_edge_sentence(Effect::Wind, {std::nan("")}), InputError);
+}
+
 // The note a person reads when the bound guard stops a candidate gives the
 // share of the held-out gain and every fold's fitted value against the
 // correction's range. Figures of blind pitch damping s26: added mass 6.1 %
