@@ -24,16 +24,21 @@ would do on fits the diagnosis would then have made differently (a rule
 that changes which candidates are stepped, for instance).
 
     /usr/bin/python3 bench/diagnosis/rule_replay.py out/s25 out/nulls-402578c ...
+    /usr/bin/python3 bench/diagnosis/rule_replay.py bench/diagnosis/runs   # the archived runs
+
+Compressed results archived by run_blind.py (COMMIT/CASE.diagnosis.json.gz)
+are read as well.
 """
 import argparse
 import glob
+import gzip
 import json
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_blind import case_of  # noqa: E402  (the benchmark's case names)
+from run_blind import ARCHIVE_SUFFIX, case_of  # noqa: E402  (the benchmark's case names and archive)
 
 
 # The fits' ranges (engine/src/effects.cpp, docs/diagnosis.md "The bound
@@ -223,13 +228,20 @@ def main(argv=None):
     cases = []
     seen = set()
     for d in args.dirs:
-        for p in sorted(glob.glob(os.path.join(d, "**", "diagnosis.json"), recursive=True)):
-            name = os.path.basename(os.path.dirname(p))
+        stored = [(p, os.path.basename(os.path.dirname(p)))
+                  for p in glob.glob(os.path.join(d, "**", "diagnosis.json"), recursive=True)]
+        stored += [(p, os.path.basename(p)[:-len(ARCHIVE_SUFFIX)])  # run_blind.py's archive (bench/diagnosis/runs)
+                   for p in glob.glob(os.path.join(d, "**", "*" + ARCHIVE_SUFFIX), recursive=True)]
+        for p, name in sorted(stored):
             c = case_of(name)
             if c is None:
                 continue
-            with open(p) as fh:
-                r = json.load(fh)
+            if p.endswith(".gz"):
+                with gzip.open(p, "rt") as fh:
+                    r = json.load(fh)
+            else:
+                with open(p) as fh:
+                    r = json.load(fh)
             if not r.get("effects"):
                 continue
             key = (name, r.get("bench_commit", ""))

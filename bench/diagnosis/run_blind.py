@@ -28,6 +28,7 @@ oracle existed (or with --no-oracle) have only the noise floor.
 """
 import argparse
 import concurrent.futures as cf
+import gzip
 import json
 import os
 import subprocess
@@ -365,6 +366,55 @@ def markdown(s):
     return out
 
 
+# Finished diagnoses are kept in the repository (compressed, by the commit
+# that ran them), because out/ does not outlive a checkout: the replay of
+# decision rules (rule_replay.py) and the checks of the documented tables
+# (tests/python/test_blind_bench.py) read them from here.
+ARCHIVE = os.path.join(HERE, "runs")
+ARCHIVE_SUFFIX = ".diagnosis.json.gz"
+
+
+def archive_path(archive_dir, name, r):
+    commit = str(r.get("bench_commit") or "unknown").replace("/", "_").replace(" ", "_")
+    return os.path.join(archive_dir, commit, name + ARCHIVE_SUFFIX)
+
+
+def archive(out, archive_dir):
+    """Copies every finished case under `out` (CASE/diagnosis.json, with the
+    case name run_blind.py gives) to archive_dir/COMMIT/CASE.diagnosis.json.gz;
+    a case already archived is left as it is. Returns the paths written."""
+    written = []
+    for name in sorted(os.listdir(out)) if os.path.isdir(out) else []:
+        res = os.path.join(out, name, "diagnosis.json")
+        if case_of(name) is None or not os.path.isfile(res):
+            continue
+        with open(res) as f:
+            r = json.load(f)
+        dst = archive_path(archive_dir, name, r)
+        if os.path.isfile(dst):
+            continue
+        os.makedirs(os.path.dirname(dst), exist_ok=True)
+        data = json.dumps(r, separators=(",", ":"), sort_keys=True).encode()
+        with open(dst + ".tmp", "wb") as f:  # mtime 0: the same result gives the same bytes
+            with gzip.GzipFile(filename="", mode="wb", fileobj=f, mtime=0) as z:
+                z.write(data)
+        os.replace(dst + ".tmp", dst)
+        written.append(dst)
+    return written
+
+
+def archived(archive_dir=ARCHIVE):
+    """Every archived diagnosis: a list of (case name, path, result)."""
+    found = []
+    for root, _, files in sorted(os.walk(archive_dir)):
+        for fn in sorted(files):
+            if fn.endswith(ARCHIVE_SUFFIX):
+                p = os.path.join(root, fn)
+                with gzip.open(p, "rt") as f:
+                    found.append((fn[:-len(ARCHIVE_SUFFIX)], p, json.load(f)))
+    return found
+
+
 def case_of(name):
     """A case from its name: one of the lists, or EFFECT-STRENGTH-sSEED (one
     effect at any strength, e.g. pitch_damping-0.5-s25, for the strength
@@ -431,6 +481,11 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--cases", default="", help="comma list of case names to run, in this order (default: the list)")
     ap.add_argument("--summarise", action="store_true", help="only tabulate the cases that have finished")
+    ap.add_argument("--archive", default=ARCHIVE,
+                    help="where finished cases are kept, compressed, by commit (default bench/diagnosis/runs; "
+                         "commit them: out/ does not outlive a checkout)")
+    ap.add_argument("--no-archive", dest="archive", action="store_const", const="",
+                    help="do not copy finished cases to the archive")
     ap.add_argument("--no-oracle", dest="oracle", action="store_false",
                     help="do not fit the oracle (the baseline plus the true effects, centre values refitted); the "
                          "noise floor then stands in for it")
@@ -458,6 +513,9 @@ def main():
                 o.write(f.read())
     if not args.summarise:
         run_all(args, gl_dir)
+    if args.archive:
+        for p in archive(args.out, args.archive):
+            print("archived %s" % os.path.relpath(p, ROOT), file=sys.stderr, flush=True)
     # The summary covers every finished case in --out (of the lists or
     # named), so that runs of parts of the list (--cases, --quick, runs
     # stopped early) add up.

@@ -459,3 +459,73 @@ def test_rule_replay_counts_the_verdicts_the_launch_withhold_takes_back(tmp_path
     # significant beside pitch damping on s7.
     assert "| as built | 0 of 0 (95 % bound nan %) | 2 of 7 | 4 of 7 |" in out
     assert "| launch rotation confirmed by its rates | 0 of 0 (95 % bound nan %) | 4 of 7 | 5 of 7 |" in out
+
+
+def _finished(root, name, commit, effects, verdict="none"):
+    d = root / name
+    d.mkdir(parents=True)
+    (d / "diagnosis.json").write_text(json.dumps({"effects": effects, "options": {"min_shrink": 0.05},
+                                                  "verdict": verdict, "bench_commit": commit}))
+
+
+def test_finished_cases_are_archived_by_commit_once_and_the_replay_reads_the_archive(tmp_path, capsys):
+    out, arch = tmp_path / "out", tmp_path / "runs"
+    _finished(out, "null-s1", "abc1234", [_stored("finite_span", False, 0.06, 40.0, False, collinearity=0.98)])
+    _finished(out, "camera-1-s2", "abc1234+x", [_stored("camera", True, 0.08, 40.0, True)], verdict="camera")
+    (out / "wind-1-s3").mkdir()  # unfinished: no diagnosis.json
+    _finished(out, "not-a-case", "abc1234", [_stored("wind", True, 0.5, 99.0, False)])
+    written = rb.archive(str(out), str(arch))
+    assert sorted(os.path.relpath(p, arch) for p in written) == sorted([
+        os.path.join("abc1234", "null-s1.diagnosis.json.gz"), os.path.join("abc1234+x", "camera-1-s2.diagnosis.json.gz")])
+    before = {p: open(p, "rb").read() for p in written}
+    assert rb.archive(str(out), str(arch)) == []  # kept, not written again
+    assert {p: open(p, "rb").read() for p in written} == before
+    # The same result gives the same bytes (no time stamp in the gzip header).
+    again = tmp_path / "again"
+    assert [open(p, "rb").read() for p in sorted(rb.archive(str(out), str(again)))] == \
+        [before[p] for p in sorted(before)]
+    got = {name: r for name, _, r in rb.archived(str(arch))}
+    assert got == {n: json.load(open(out / n / "diagnosis.json")) for n in ("null-s1", "camera-1-s2")}
+    assert rr.main([str(arch)]) == 0
+    assert "2 diagnoses replayed (1 null, 1 single-effect)" in capsys.readouterr().out
+
+
+def test_every_archived_run_replays_and_agrees_with_the_documented_tables(capsys):
+    """The runs archived in bench/diagnosis/runs are the record behind the
+    documented figures: the replay reproduces every stored decision, and a
+    case of the top-1 table or the fresh-seed grid that was archived from
+    the commit the table names has the table's verdict, oracle and shrink
+    (to the table's 0.1 %)."""
+    runs = rb.archived()
+    assert runs, "bench/diagnosis/runs holds no archived run (run_blind.py archives every finished case there)"
+    assert rr.main([rb.ARCHIVE]) == 0
+    capsys.readouterr()
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    _, rows = _rows_after(text, "| case | oracle | verdict | true effect's shrink | commit |")
+    percent = lambda x: float(x.rstrip(" %").replace("\u2212", "-"))
+    table = {c[0]: (percent(c[1]), c[2], percent(c[3]), c[4]) for c in rows}
+    checked = 0
+    for name, path, r in runs:
+        c = rb.case_of(name)
+        assert c is not None, path
+        truth = c["truth"]
+        if name in table and str(r.get("bench_commit", "")).startswith(table[name][3]):
+            oracle, verdict, shrink, _ = table[name]
+            true = next(e for e in r["effects"] if e["name"] == truth[0])
+            assert (verdict, oracle, shrink) == (r["verdict"], round(100 * r["oracle"]["shrink"], 1),
+                                                 round(100 * true["shrink"], 1)), name
+            checked += 1
+    head, grid = _rows_after(text, "| effect \\ seed | 28 | 29 |")
+    seeds = [int(h) for h in head[1:]]
+    cell_re = re.compile(r"^(\*\*)?([a-z_]+)(\*\*)? \(([−\-0-9.]+) %\)$")
+    by_case = collections.defaultdict(list)
+    for name, _, r in runs:
+        by_case[name].append((r["verdict"], round(100 * r["oracle"]["shrink"], 1) if "oracle" in r else None))
+    for row in grid:
+        for seed, cell in zip(seeds, row[1:]):
+            case = "%s-1-s%d" % (row[0], seed)
+            m = cell_re.match(cell)
+            if m and case in by_case:
+                assert (m.group(2), float(m.group(4).replace("\u2212", "-"))) in by_case[case], case
+                checked += 1
+    assert checked > 0, "no archived run is one of the documented tables' cases"
