@@ -469,6 +469,33 @@ double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_p
   return all > 0 ? at_edge / all : 0.0;
 }
 
+int likelihood_reference(const std::vector<Effect>& effects, const std::vector<std::vector<double>>& params,
+                         const std::vector<double>& sse, const std::vector<bool>& per_flight, double baseline_sse) {
+  if (params.size() != effects.size() || sse.size() != effects.size() || per_flight.size() != effects.size())
+    throw InputError("likelihood reference: " + std::to_string(effects.size()) + " effects, " +
+                     std::to_string(params.size()) + " parameter sets, " + std::to_string(sse.size()) + " fits, " +
+                     std::to_string(per_flight.size()) + " per-flight flags");
+  if (!std::isfinite(baseline_sse)) throw InputError("likelihood reference: the baseline's fit is not finite");
+  int best = -1;
+  double ref = baseline_sse;
+  for (std::size_t e = 0; e < effects.size(); ++e) {
+    if (params[e].size() != effect_spec(effects[e]).parameters.size())
+      throw InputError("likelihood reference: " + effect_name(effects[e]) + " has " +
+                       std::to_string(effect_spec(effects[e]).parameters.size()) + " parameters, given " +
+                       std::to_string(params[e].size()));
+    if (!std::isfinite(sse[e])) throw InputError("likelihood reference: " + effect_name(effects[e]) + "'s fit is not finite");
+    for (double v : params[e])
+      if (!std::isfinite(v)) throw InputError("likelihood reference: " + effect_name(effects[e]) + "'s fit is not finite");
+    if (per_flight[e]) continue;
+    const bool at_baseline = std::all_of(params[e].begin(), params[e].end(), [](double v) { return v == 0.0; });
+    if (at_baseline && sse[e] < ref) {
+      ref = sse[e];
+      best = static_cast<int>(e);
+    }
+  }
+  return best;
+}
+
 // An aerodynamic correction's strength is a multiple of its theory, which
 // is approximate to a factor of about two (the downwash correction gives
 // 1.04-1.85 times the reference lattice's pitching moment across the
@@ -2118,6 +2145,33 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         full_stepped[e] = true;
     timings["heldout_steps_s"] = since(ts);
   }
+  // ------------------------------------------------------------ the training test's reference
+  // A candidate fitted at the baseline's values that explains the flights
+  // better than the baseline's own fit is a better baseline fit: every
+  // likelihood ratio is measured from it (likelihood_reference). The
+  // held-out baseline is not changed.
+  if (o.full_fit) {
+    std::vector<std::vector<double>> params(ne);
+    std::vector<double> sse(ne);
+    std::vector<bool> pf(ne);
+    for (int e = 0; e < ne; ++e) {
+      params[e] = effect_values(eff_full[e].model.effects, o.effects[e]);
+      sse[e] = eff_full[e].sse;
+      pf[e] = per_flight(o.effects[e]);
+    }
+    const int ref = likelihood_reference(o.effects, params, sse, pf, base_full.sse);
+    if (ref >= 0) {
+      res.likelihood_reference = effect_name(o.effects[ref]);
+      res.likelihood_reference_rmse_m = eff_full[ref].rmse();
+      report("analysis", "all gliders: " + res.likelihood_reference + " fitted at 0 (the baseline model) with its centre "
+                         "values re-tuned explains the flights better than the baseline's fit (RMSE " +
+                         cm(eff_full[ref].rmse()) + " against " + cm(base_full.rmse()) +
+                         "): the likelihood ratios are measured from that fit",
+             false);
+      for (int e = 0; e < ne; ++e)
+        set_likelihood_ratio(res.effects[e], o.effects[e], eff_full[ref].sse - eff_full[e].sse, eff_full[e].sse);
+    }
+  }
   // The decision rule (decision_rule), the same in both rounds.
   auto decided = [&](Effect e, bool lr_pass, double shrink, double holdout_delta_chi2, double threshold) {
     return decision_rule(o, e, lr_pass, shrink, holdout_delta_chi2, threshold);
@@ -2578,6 +2632,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
 
   for (std::size_t i = 0; i < res.effects.size(); ++i) {
     res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
+    if (res.effects[i].name == res.likelihood_reference)
+      res.effects[i].note += "; fitted at 0 on all gliders, with the centre values re-tuned it fits them better than "
+                             "the baseline's fit (RMSE " + cm(res.likelihood_reference_rmse_m) + " against " +
+                             cm(res.fit_rmse_m) + "): a better fit of the baseline model, not the effect, and the "
+                             "reference of every likelihood ratio";
     res.effects[i].given_verdict.note = given_note(res.effects[i], given_of, o);
     res.effects[i].given_verdict.stopped_by_guard =
         given_stopped_by(res.effects[i].given_verdict, o, res.effects[i].effect);
@@ -2963,6 +3022,12 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   j["verdict"] = r.verdict;
   j["also"] = r.also;
   if (!r.replaced.empty()) j["replaced"] = r.replaced;
+  if (!r.likelihood_reference.empty())
+    j["likelihood_reference"] = {
+        {"effect", r.likelihood_reference},
+        {"fit_rmse_m", r.likelihood_reference_rmse_m},
+        {"reason", "fitted at 0 with the centre values re-tuned, it explains the training flights better than the "
+                   "baseline's fit: a better fit of the baseline model, from which every likelihood ratio is measured"}};
   if (!r.withheld.empty())
     j["withheld"] = {
         {"effect", r.withheld},

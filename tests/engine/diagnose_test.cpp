@@ -1357,6 +1357,41 @@ TEST(DiagnoseStatistics, TheBoundGuardCountsTheGainOfFoldsFittedAtTheEdgeOfTheRa
   EXPECT_THROW(fold_bound_share(Effect::AddedMass, {{1}}, {std::numeric_limits<double>::infinity()}), InputError);
 }
 
+// The likelihood ratios' reference: a candidate whose fit to all gliders
+// ended with every parameter at 0 (the baseline model) but a smaller sum
+// of squares than the baseline's fit is a better baseline fit (blind
+// finite span s42: added mass at strength 0, RMSE 1.3985 against 1.4149
+// cm, was named). Of two such, the lower sum; per-flight launch rotation
+// never (its rates are per flight); at 0 but no better: -1.
+TEST(DiagnoseStatistics, ACandidateFittedAtZeroThatBeatsTheBaselineIsTheLikelihoodReference) {
+  const std::vector<Effect> fx = {Effect::AddedMass, Effect::FiniteSpan, Effect::LaunchRotation, Effect::Camera,
+                                  Effect::PitchDamping};
+  const std::vector<bool> pf = {false, false, true, false, false};
+  // Sums in arbitrary units: the baseline 100.
+  std::vector<std::vector<double>> par = {{0.0}, {0.94}, {0.0}, {0.017, -0.017}, {0.0}};
+  std::vector<double> sse = {97.7, 95.9, 90.0, 97.2, 100.0};
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0), 0);
+  // Pitch damping at 0 lower still: it is the reference.
+  sse[4] = 96.0;
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0), 4);
+  // Per-flight launch rotation with a mean rate of 0 is not the baseline model.
+  sse = {101.0, 95.9, 90.0, 97.2, 100.0};
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0), -1);
+  // A camera with one parameter at 0 is not at the baseline's values.
+  par[3] = {0.0, 0.02};
+  sse[3] = 80.0;
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0), -1);
+  par[3] = {0.0, 0.0};
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0), 3);
+  EXPECT_THROW(likelihood_reference(fx, par, {1.0}, pf, 100.0), InputError);
+  par[1] = {0.5, 0.5};
+  EXPECT_THROW(likelihood_reference(fx, par, sse, pf, 100.0), InputError);
+  par[1] = {std::nan("")};
+  EXPECT_THROW(likelihood_reference(fx, par, sse, pf, 100.0), InputError);
+  par[1] = {0.94};
+  EXPECT_THROW(likelihood_reference(fx, par, sse, pf, std::nan("")), InputError);
+}
+
 // A named effect's fitted size (on all gliders) draws a caution in the
 // summary when an aerodynamic strength exceeds twice its theory (blind
 // pitch damping s37 named added mass at 2.55, wrong; 1.9 passes) or any
