@@ -101,7 +101,29 @@ def fields(e, options, r=None):
         "bound_pass": bool(cv.get("bound_pass", True)),
         "bound_on": bool(options.get("bound_guard", False)),
         "bound_share": bound_share(e, r) if r is not None else None,
+        "likelihood_reference": r is not None and likelihood_reference(r) == e["name"],
     }
+
+
+def likelihood_reference(r):
+    """The candidate the engine's likelihood ratios are measured from
+    (likelihood_reference, since 2026-12-02): fitted on all gliders with
+    every parameter at 0 (not per-flight launch rotation) and a fit RMSE
+    below the baseline's, the lowest such; None when there is none."""
+    base = r.get("baseline", {}).get("fit_rmse_m")
+    per_flight = r.get("options", {}).get("launch_rotation_per_flight", True)
+    best, ref = None, base
+    if base is None:
+        return None
+    for e in r["effects"]:
+        params = e.get("parameters") or {}
+        if not params or any(v != 0 for v in params.values()):
+            continue
+        if e["name"] == "launch_rotation" and per_flight:
+            continue
+        if e.get("fit_rmse_m", float("inf")) < ref:
+            best, ref = e["name"], e["fit_rmse_m"]
+    return best
 
 
 def margin(f):
@@ -171,6 +193,15 @@ def bound_guard(f):
     return built(dict(f, bound_pass=f["bound_share"] <= 0.5))
 
 
+def reference_rule(f):
+    """As built, with the likelihood ratios measured from a candidate's fit
+    at 0 that beats the baseline's (likelihood_reference in the engine,
+    since 2026-12-02): that candidate's own ratio is then 0 and it fails the
+    training test. The others' ratios would shrink too, which this replay
+    leaves out (it can only under-count what the rule takes back)."""
+    return built(dict(f, lr_pass=False)) if f["likelihood_reference"] else built(f)
+
+
 # Effects applied alike to every flight of the session (EffectLevel Session
 # and Observation in engine/src/effects.cpp).
 SESSION_WIDE = ("wind", "camera")
@@ -218,7 +249,8 @@ def launch_verdict(r):
 RULES = [("as built", built), ("held-out alone for collinear effects", heldout_for_collinear),
          ("held-out alone", heldout_only), ("held-out alone, robust shrink", heldout_robust),
          ("glider guard at three quarters", guard_three_quarters), ("bound guard", bound_guard),
-         ("launch rotation confirmed by its rates", rates_confirm)]
+         ("launch rotation confirmed by its rates", rates_confirm),
+         ("likelihood ratios from a candidate's fit at 0", reference_rule)]
 
 
 def main(argv=None):

@@ -529,3 +529,30 @@ def test_every_archived_run_replays_and_agrees_with_the_documented_tables(capsys
                 assert (m.group(2), float(m.group(4).replace("\u2212", "-"))) in by_case[case], case
                 checked += 1
     assert checked > 0, "no archived run is one of the documented tables' cases"
+
+
+def test_rule_replay_finds_the_likelihood_reference_and_takes_its_verdict_back(tmp_path, capsys):
+    # Worked out from the rule (engine likelihood_reference): added mass at
+    # strength 0 fits better than the baseline (1.3985 < 1.4149 cm), so it
+    # is the reference and fails the training test; pitch damping at 0 but
+    # no better, launch rotation (per flight) at a mean of 0 and finite span
+    # at 0.94 are not the reference.
+    def eff(name, params, fit, sig):
+        e = _stored(name, True, 0.13 if name == "added_mass" else 0.02, 40.0, sig)
+        e.update(parameters=params, fit_rmse_m=fit)
+        return e
+    d = tmp_path / "finite_span-1-s42"
+    d.mkdir()
+    r = {"options": {"min_shrink": 0.05, "launch_rotation_per_flight": True}, "verdict": "added_mass",
+         "baseline": {"fit_rmse_m": 0.014149},
+         "effects": [eff("added_mass", {"strength": 0.0}, 0.013985, True),
+                     eff("finite_span", {"strength": 0.94}, 0.013856, False),
+                     eff("launch_rotation", {"pitch_rate_deg_s": 0.0}, 0.0139, False),
+                     eff("pitch_damping", {"strength": 0.0}, 0.014149, False)]}
+    (d / "diagnosis.json").write_text(json.dumps(r))
+    assert rr.likelihood_reference(r) == "added_mass"
+    assert rr.likelihood_reference(dict(r, baseline={"fit_rmse_m": 0.0139})) is None
+    assert rr.main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "| likelihood ratios from a candidate's fit at 0 | 0 of 0 (95 % bound nan %) | 0 of 1 | 0 of 1 |" in out
+    assert "no longer another effect significant: finite_span-1-s42" in out
