@@ -268,12 +268,8 @@ def main(argv=None):
             c = case_of(name)
             if c is None:
                 continue
-            if p.endswith(".gz"):
-                with gzip.open(p, "rt") as fh:
-                    r = json.load(fh)
-            else:
-                with open(p) as fh:
-                    r = json.load(fh)
+            with (gzip.open if p.endswith(".gz") else open)(p, "rt") as fh:
+                r = json.load(fh)
             if not r.get("effects"):
                 continue
             key = (name, r.get("bench_commit", ""))

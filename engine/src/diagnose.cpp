@@ -442,6 +442,16 @@ std::string given_stopped_by(const EffectResult::Given& g, const DiagnoseOptions
   return g.bound_pass ? "glider" : "bound";
 }
 
+namespace {
+// The bound guard's edge: within the outer tenth of a non-zero bound of the
+// parameter's range, on that bound's side (a strength's lower bound 0 is
+// the baseline, not an edge). Shared by fold_bound_share and
+// range_edge_sentence.
+bool at_range_edge(const EffectParameter& p, double v) {
+  return (p.upper > 0 && v >= 0.9 * p.upper) || (p.lower < 0 && v <= 0.9 * p.lower);
+}
+}  // namespace
+
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain) {
   if (fold_params.size() != fold_gain.size())
@@ -459,8 +469,7 @@ double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_p
       const double v = fold_params[k][i];
       if (!std::isfinite(v))
         throw InputError("bound guard: fold " + std::to_string(k + 1) + "'s " + ps[i].name + " is not finite");
-      if (ps[i].upper > 0 && v >= 0.9 * ps[i].upper) edge = true;
-      if (ps[i].lower < 0 && v <= 0.9 * ps[i].lower) edge = true;
+      if (at_range_edge(ps[i], v)) edge = true;
     }
     const double g = std::max(0.0, fold_gain[k]);
     all += g;
@@ -515,16 +524,14 @@ std::string range_edge_sentence(Effect e, const std::vector<double>& params) {
   for (std::size_t i = 0; i < ps.size(); ++i) {
     const double v = params[i];
     if (!std::isfinite(v)) throw InputError("range check: " + effect_name(e) + "'s " + ps[i].name + " is not finite");
-    const bool edge = (ps[i].upper > 0 && v >= 0.9 * ps[i].upper) || (ps[i].lower < 0 && v <= 0.9 * ps[i].lower);
-    if (aero && (edge || v > kStrainedStrength))
-      at += std::string(at.empty() ? "" : " and ") + ps[i].name + " " + fmt(v * ps[i].to_report, 3) + ", " +
-            (v > kStrainedStrength ? "more than " + fmt(kStrainedStrength, 3) + " times" : "near") +
-            " its theoretical size (range " + fmt(ps[i].lower * ps[i].to_report, 3) + " to " +
-            fmt(ps[i].upper * ps[i].to_report, 3) + ")";
-    else if (edge)
-      at += std::string(at.empty() ? "" : " and ") + ps[i].name + " " + fmt(v * ps[i].to_report, 3) +
-            ", near the end of the range allowed (" + fmt(ps[i].lower * ps[i].to_report, 3) + " to " +
-            fmt(ps[i].upper * ps[i].to_report, 3) + ")";
+    const bool edge = at_range_edge(ps[i], v);
+    const bool strained = aero && v > kStrainedStrength;
+    if (!edge && !strained) continue;
+    const std::string range = fmt(ps[i].lower * ps[i].to_report, 3) + " to " + fmt(ps[i].upper * ps[i].to_report, 3);
+    at += std::string(at.empty() ? "" : " and ") + ps[i].name + " " + fmt(v * ps[i].to_report, 3) + ", " +
+          (!aero      ? "near the end of the range allowed (" + range + ")"
+           : strained ? "more than " + fmt(kStrainedStrength, 3) + " times its theoretical size (range " + range + ")"
+                      : "near its theoretical size (range " + range + ")");
   }
   if (at.empty()) return {};
   return " Caution on its size: " + at +
@@ -2155,7 +2162,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     std::vector<double> sse(ne);
     std::vector<bool> pf(ne);
     for (int e = 0; e < ne; ++e) {
-      params[e] = effect_values(eff_full[e].model.effects, o.effects[e]);
+      params[e] = res.effects[e].parameters;  // eff_full[e]'s, set above and by step_refit
       sse[e] = eff_full[e].sse;
       pf[e] = per_flight(o.effects[e]);
     }
