@@ -39,6 +39,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 GLIDERS = ["t01-rectangular", "t03-rectangular-long", "t04-tapered-mild", "t06-swept-15", "t09-forward-swept-15",
            "t12-elliptic", "t14-straight-trailing-edge", "t17-canard"]
+# The issue's size (its speed target: 20 gliders): every training glider, the
+# same recording protocol. A case named ...-g20 flies these instead of the
+# eight above; four folds then hold five gliders out each.
+GLIDERS_ALL = sorted(f[:-len(".glider.json")] for f in os.listdir(os.path.join(ROOT, "examples", "training"))
+                     if f.endswith(".glider.json"))
+WIDE = "-g%d" % len(GLIDERS_ALL)
 EFFECTS = ["pitch_damping", "downwash", "finite_span", "fuselage_drag", "ground_effect", "launch_rotation",
            "added_mass", "wind", "camera"]
 # The recording protocol (docs/diagnosis.md, "Blind validation"): every glider
@@ -86,6 +92,8 @@ def run(cmd, log):
 
 
 def one(case, args, gl_dir):
+    if case.get("gliders") == "all":
+        gl_dir = gl_dir + "-all"
     d = os.path.join(args.out, case["name"])
     res = os.path.join(d, "diagnosis.json")
     if os.path.isfile(res):
@@ -419,10 +427,15 @@ def case_of(name):
     """A case from its name: one of the lists, or EFFECT-STRENGTH-sSEED (one
     effect at any strength, e.g. pitch_damping-0.5-s25, for the strength
     sweep), EFFECT+EFFECT-sSEED (two effects, each at strength 1) or
-    null-sSEED. None if the name is none of these."""
+    null-sSEED; any of these with -g20 at the end flies every training
+    glider (GLIDERS_ALL) instead of the eight (GLIDERS). None if the name is
+    none of these."""
     known = {c["name"]: c for c in cases(False)}
     if name in known:
         return known[name]
+    if name.endswith(WIDE) and len(name) > len(WIDE):
+        c = case_of(name[:-len(WIDE)])
+        return None if c is None or c.get("gliders") else dict(c, name=name, gliders="all")
     parts = name.split("-")
     try:
         if len(parts) == 2 and parts[0] == "null" and parts[1].startswith("s"):
@@ -505,12 +518,14 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     gl_dir = os.path.join(args.out, "gliders")
     os.makedirs(gl_dir, exist_ok=True)
-    for g in GLIDERS:
-        src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
-        dst = os.path.join(gl_dir, g + ".glider.json")
-        if not os.path.isfile(dst):
-            with open(src) as f, open(dst, "w") as o:
-                o.write(f.read())
+    os.makedirs(gl_dir + "-all", exist_ok=True)
+    for names, to in ((GLIDERS, gl_dir), (GLIDERS_ALL, gl_dir + "-all")):
+        for g in names:
+            src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
+            dst = os.path.join(to, g + ".glider.json")
+            if not os.path.isfile(dst):
+                with open(src) as f, open(dst, "w") as o:
+                    o.write(f.read())
     if not args.summarise:
         run_all(args, gl_dir)
     if args.archive:

@@ -90,10 +90,10 @@ std::string pct(double f) {
   return s.str();
 }
 
-std::string cm(double m) {
+std::string cm(double m, int digits = 1) {
   std::ostringstream s;
   s.setf(std::ios::fixed);
-  s.precision(1);
+  s.precision(digits);
   s << 100 * m << " cm";
   return s.str();
 }
@@ -148,6 +148,14 @@ double gamma_q_fraction(double a, double x) {
 }
 
 }  // namespace
+
+std::string cm_against(double a_m, double b_m) {
+  if (!std::isfinite(a_m) || !std::isfinite(b_m)) throw InputError("an RMSE to compare is not finite");
+  int d = 1;
+  while (d < 4 && cm(a_m, d) == cm(b_m, d)) ++d;
+  const std::string a = cm(a_m, d);
+  return a.substr(0, a.size() - 3) + " against " + cm(b_m, d);
+}
 
 double chi2_sf(double x, double k) {
   if (!(k > 0)) return 1.0;
@@ -2172,8 +2180,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       res.likelihood_reference_rmse_m = eff_full[ref].rmse();
       report("analysis", "all gliders: " + res.likelihood_reference + " fitted at 0 (the baseline model) with its centre "
                          "values re-tuned explains the flights better than the baseline's fit (RMSE " +
-                         cm(eff_full[ref].rmse()) + " against " + cm(base_full.rmse()) +
-                         "): the likelihood ratios are measured from that fit",
+                         cm_against(eff_full[ref].rmse(), base_full.rmse()) + "): the likelihood ratios are measured from that fit",
              false);
       for (int e = 0; e < ne; ++e)
         set_likelihood_ratio(res.effects[e], o.effects[e], eff_full[ref].sse - eff_full[e].sse, eff_full[e].sse);
@@ -2641,8 +2648,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     res.effects[i].note = effect_note(res.effects[i], o, own_limits[i]);
     if (res.effects[i].name == res.likelihood_reference)
       res.effects[i].note += "; fitted at 0 on all gliders, with the centre values re-tuned it fits them better than "
-                             "the baseline's fit (RMSE " + cm(res.likelihood_reference_rmse_m) + " against " +
-                             cm(res.fit_rmse_m) + "): a better fit of the baseline model, not the effect, and the "
+                             "the baseline's fit (RMSE " + cm_against(res.likelihood_reference_rmse_m, res.fit_rmse_m) +
+                             "): a better fit of the baseline model, not the effect, and the "
                              "reference of every likelihood ratio";
     res.effects[i].given_verdict.note = given_note(res.effects[i], given_of, o);
     res.effects[i].given_verdict.stopped_by_guard =

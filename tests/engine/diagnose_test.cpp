@@ -1420,6 +1420,16 @@ TEST(DiagnoseStatistics, AVerdictFittedFarBeyondItsTheoryOrNearItsRangesEndIsFla
   EXPECT_THROW(range_edge_sentence(Effect::Wind, {std::nan("")}), InputError);
 }
 
+TEST(DiagnoseStatistics, RmsesSetAgainstEachOtherReadDifferently) {
+  // Blind finite span s42: added mass at 0 fitted 1.3985 cm, the baseline
+  // 1.4149 cm; to one decimal both read 1.4.
+  EXPECT_EQ(cm_against(0.013985, 0.014149), "1.40 against 1.41 cm");
+  EXPECT_EQ(cm_against(0.0213, 0.0146), "2.1 against 1.5 cm");
+  EXPECT_EQ(cm_against(0.0141493, 0.0141498), "1.4149 against 1.4150 cm");
+  EXPECT_EQ(cm_against(0.014, 0.014), "1.4000 against 1.4000 cm");  // equal: the most decimals
+  EXPECT_THROW(cm_against(std::nan(""), 0.014), InputError);
+}
+
 // The note a person reads when the bound guard stops a candidate gives the
 // share of the held-out gain and every fold's fitted value against the
 // correction's range. Figures of blind pitch damping s26: added mass 6.1 %

@@ -16,6 +16,7 @@ import re
 import statistics
 import subprocess
 import sys
+import tempfile
 
 import pytest
 
@@ -39,6 +40,42 @@ def test_sweep_and_null_names_are_parsed_and_others_refused():
     assert rb.case_of("null-s40") == {"name": "null-s40", "truth": [], "strength": {}, "seed": 40}
     for bad in ["gravity-1-s2", "wind-x-s2", "wind-0-s2", "wind-1-2", "null-40", "null-sx", "wind", "", "gliders"]:
         assert rb.case_of(bad) is None, bad
+
+
+def test_a_case_at_the_issues_size_flies_every_training_glider():
+    # The issue's speed target names 20 gliders; examples/training holds 20,
+    # and the blind benchmark's eight are among them.
+    assert len(rb.GLIDERS_ALL) == 20 and set(rb.GLIDERS) < set(rb.GLIDERS_ALL)
+    c = rb.case_of("finite_span-1-s41-g20")
+    assert c == dict(rb.case_of("finite_span-1-s41"), name="finite_span-1-s41-g20", gliders="all")
+    assert rb.case_of("null-s40-g20") == {"name": "null-s40-g20", "truth": [], "strength": {}, "seed": 40,
+                                          "gliders": "all"}
+    assert rb.case_of("wind+camera-s41-g20")["truth"] == ["wind", "camera"]
+    for bad in ["null-s40-g20-g20", "-g20", "null-s40-g8", "null-s40g20", "gliders-all"]:
+        assert rb.case_of(bad) is None, bad
+
+    class Stop(Exception):
+        pass
+    seen = []
+
+    def run(cmd, log):
+        seen.append(cmd)
+        raise Stop()
+
+    class A:
+        out = None
+        build = "B"
+    run_was = rb.run
+    try:
+        rb.run = run
+        for name, gliders in (("null-s40-g20", "G-all"), ("null-s40", "G")):
+            with tempfile.TemporaryDirectory() as d:
+                A.out = d
+                with pytest.raises(Stop):
+                    rb.one(rb.case_of(name), A(), "G")
+            assert seen[-1][1:3] == ["generate", gliders], seen[-1]
+    finally:
+        rb.run = run_was
 
 
 def test_unknown_case_names_stop_the_run_with_the_list():
