@@ -108,21 +108,27 @@ def fields(e, options, r=None):
 def likelihood_reference(r):
     """The candidate the engine's likelihood ratios are measured from
     (likelihood_reference, since 2026-12-02): fitted on all gliders with
-    every parameter at 0 (not per-flight launch rotation) and a fit RMSE
-    below the baseline's, the lowest such; None when there is none."""
+    every parameter at 0 (not per-flight launch rotation) and a fit better
+    than the baseline's by more than 0.2 chi-square units (the sum of
+    squares is the RMSE squared times the dataset's points; without the
+    dataset's points and noise, any better fit), the best such; None when
+    there is none."""
     base = r.get("baseline", {}).get("fit_rmse_m")
     per_flight = r.get("options", {}).get("launch_rotation_per_flight", True)
-    best, ref = None, base
     if base is None:
         return None
+    ds = r.get("dataset", {})
+    n, sigma = ds.get("points"), ds.get("tracking_sigma_m")
+    sse = (lambda rmse: rmse * rmse * n) if n and sigma else (lambda rmse: rmse * rmse)
+    best, ref = None, sse(base) - (0.2 * sigma * sigma if n and sigma else 0.0)
     for e in r["effects"]:
         params = e.get("parameters") or {}
         if not params or any(v != 0 for v in params.values()):
             continue
         if e["name"] == "launch_rotation" and per_flight:
             continue
-        if e.get("fit_rmse_m", float("inf")) < ref:
-            best, ref = e["name"], e["fit_rmse_m"]
+        if sse(e.get("fit_rmse_m", float("inf"))) < ref:
+            best, ref = e["name"], sse(e["fit_rmse_m"])
     return best
 
 

@@ -1390,6 +1390,14 @@ TEST(DiagnoseStatistics, ACandidateFittedAtZeroThatBeatsTheBaselineIsTheLikeliho
   EXPECT_THROW(likelihood_reference(fx, par, sse, pf, 100.0), InputError);
   par[1] = {0.94};
   EXPECT_THROW(likelihood_reference(fx, par, sse, pf, std::nan("")), InputError);
+  // Better only by less than the gain asked for (the diagnosis: 0.2
+  // chi-square units, a converged pass's; 20-glider finite span s41 had
+  // pitch damping at 0 better by 1e-10 m of RMSE): not a better fit.
+  sse = {101.0, 95.9, 90.0, 99.9, 100.0};
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0, 0.2), -1);
+  EXPECT_EQ(likelihood_reference(fx, par, sse, pf, 100.0, 0.05), 3);
+  EXPECT_THROW(likelihood_reference(fx, par, sse, pf, 100.0, -1.0), InputError);
+  EXPECT_THROW(likelihood_reference(fx, par, sse, pf, 100.0, std::nan("")), InputError);
 }
 
 // A named effect's fitted size (on all gliders) draws a caution in the

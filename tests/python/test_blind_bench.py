@@ -589,6 +589,14 @@ def test_rule_replay_finds_the_likelihood_reference_and_takes_its_verdict_back(t
     (d / "diagnosis.json").write_text(json.dumps(r))
     assert rr.likelihood_reference(r) == "added_mass"
     assert rr.likelihood_reference(dict(r, baseline={"fit_rmse_m": 0.0139})) is None
+    # Better by 0.2 chi-square units at the least (1 cm noise, 1200 points:
+    # 1e-6 m^2 of sum of squares): 0.1 units better is no reference.
+    ds = {"points": 1200, "tracking_sigma_m": 0.01}
+    assert rr.likelihood_reference(dict(r, dataset=ds)) == "added_mass"
+    near = dict(r, dataset=ds, baseline={"fit_rmse_m": (0.013985 ** 2 + 0.1 * 1e-4 / 1200) ** 0.5})
+    assert rr.likelihood_reference(near) is None
+    near["baseline"] = {"fit_rmse_m": (0.013985 ** 2 + 0.3 * 1e-4 / 1200) ** 0.5}
+    assert rr.likelihood_reference(near) == "added_mass"
     assert rr.main([str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "| likelihood ratios from a candidate's fit at 0 | 0 of 0 (95 % bound nan %) | 0 of 1 | 0 of 1 |" in out
