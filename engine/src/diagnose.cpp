@@ -1393,9 +1393,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // `stepped` (optional): set for every candidate refitted from its step.
   // `carried` (optional): candidates refitted from their step whatever
   // their gain here (DiagnoseOptions::carry_steps).
-  // The all-gliders fit's leader: the candidate with the largest linearised
-  // gain there that passes the test's screen (-1: none, or not yet fitted).
-  int full_leader = -1;
   auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                             std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr) {
     StepSpace space = step_space(base, flights);
@@ -1460,8 +1457,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     std::sort(gains.rbegin(), gains.rend());
     std::sort(carried_gains.rbegin(), carried_gains.rend());
     std::sort(weak_gains.rbegin(), weak_gains.rend());
-    // (only the fit to all gliders asks for `stepped`)
-    if (stepped && !carried) full_leader = gains.empty() ? -1 : gains.front().second;
     std::vector<bool> keep(ne, false);
     std::string kept;
     int places = o.profiled_candidates;
@@ -1473,25 +1468,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         kept += (kept.empty() ? "" : ", ") + effect_name(o.effects[e]) + " (linearised delta chi2 " + fmt(gain, 3) +
                 note + ")";
       }
-    // The all-gliders leader has a place of its own in every fold, beside
-    // the fold's (carried, it would otherwise wait for a free one): where
-    // the folds' training gliders carry other misfits, their gains fill the
-    // places and the effect the whole dataset points to is fitted only from
-    // the baseline's basin, at strength 0 (blind finite span at 1, seed 42,
-    // fold 2: added mass, downwash and the camera took the three places,
-    // finite span, first on all gliders, fitted 0; on 20 gliders, seed 41,
-    // fold 2: the camera, fuselage drag and wind, finite span 0 where folds
-    // 1, 3 and 4 fitted 0.74-1.08).
-    if (carried && full_leader >= 0 && (*carried)[full_leader] && !keep[full_leader] &&
-        !starts[full_leader].empty()) {
-      keep[full_leader] = true;
-      double gain = 0;
-      for (const auto& list : {&gains, &carried_gains, &weak_gains})
-        for (const auto& [g, e] : *list)
-          if (e == full_leader) gain = g;
-      kept += (kept.empty() ? "" : ", ") + effect_name(o.effects[full_leader]) + " (linearised delta chi2 " +
-              fmt(gain, 3) + "; first on all gliders, a place of its own)";
-    }
     for (int e = 0; e < ne; ++e)
       if (!keep[e]) starts[e].clear();
     if (stepped) *stepped = keep;
