@@ -1114,7 +1114,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
                                cm(r.rmse()) + ", too far from the baseline's " + cm(base.rmse()) +
                                "; no start from there", false);
         } else {
-          report("effect", label + ": " + effect_name(o.effects[e]) + " switched on to " + size_name + " in " +
+          report("effect", label + ": " + effect_name(o.effects[e]) + " switched on to " + size_name +
+                               (to_lead ? " (" + describe_parameters(o.effects[e], lead_values) + ")" : std::string()) +
+                               " in " +
                                std::to_string(kRampSteps) + " steps, launches and trims refitted: RMSE " +
                                cm(r.rmse()), false);
           theory = std::move(r);

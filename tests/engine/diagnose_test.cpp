@@ -13,6 +13,7 @@
 #include <random>
 #include <map>
 #include <regex>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -649,6 +650,37 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
   ASSERT_TRUE(off.count(damped));
   EXPECT_EQ(off.at(damped).rfind("none passes the threshold", 0), 0u) << off.at(damped);
   for (const auto& [glider, stepped] : off) EXPECT_EQ(stepped.find(mark), std::string::npos) << stepped;
+}
+
+// The all-gliders leader's start in the folds (under carry_steps): the
+// aerodynamic correction that led the profiled screen on all gliders is
+// also started in every fold at the strength the fit to all gliders found,
+// ramped in four steps. Flights with pitch damping at full size (2 mm
+// noise): pitch damping leads on all gliders (fitted 0.97), and every
+// fold's progress says it was switched on to that strength; without
+// carried steps no fold does. (Where the leader's fit to all gliders ends
+// at 0 there is nothing to start from: pitch damping on one glider of
+// three, CarriedStepsRefitTheAllGliderCandidatesInEveryFold's flights.)
+TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) {
+  EffectValues truth;
+  truth.pitch_damping = 1.0;
+  const Dataset d = corrected_flights(truth, 0.002, 5);
+  DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping});
+  const std::regex ramp(R"(^fold (\d)/3: pitch_damping switched on to its strength on all gliders \(strength ([0-9.e-]+)\) in 4 steps)");
+  auto ramps = [&](bool carry) {
+    o.carry_steps = carry;
+    std::set<int> folds;
+    const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) {
+      std::smatch m;
+      if (std::regex_search(p.message, m, ramp)) {
+        EXPECT_GT(std::stod(m[2].str()), 0.0) << p.message;
+        folds.insert(std::stoi(m[1].str()));
+      }
+    });
+    return folds;
+  };
+  EXPECT_EQ(ramps(true), (std::set<int>{1, 2, 3}));
+  EXPECT_TRUE(ramps(false).empty());
 }
 
 // The profiled starts' screen in the folds (DiagnoseOptions::step_alpha).
