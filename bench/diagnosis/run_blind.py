@@ -91,9 +91,14 @@ def run(cmd, log):
         raise RuntimeError("failed (%d): %s; see %s" % (r.returncode, " ".join(cmd), log))
 
 
+def gliders_dir(gl_dir, wide):
+    """Where the case's gliders are copied: GLIDERS in gl_dir, GLIDERS_ALL
+    (a ...-g20 case, `wide`) beside it."""
+    return gl_dir + "-all" if wide else gl_dir
+
+
 def one(case, args, gl_dir):
-    if case.get("gliders") == "all":
-        gl_dir = gl_dir + "-all"
+    gl_dir = gliders_dir(gl_dir, case.get("gliders") == "all")
     d = os.path.join(args.out, case["name"])
     res = os.path.join(d, "diagnosis.json")
     if os.path.isfile(res):
@@ -517,9 +522,8 @@ def main():
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     gl_dir = os.path.join(args.out, "gliders")
-    os.makedirs(gl_dir, exist_ok=True)
-    os.makedirs(gl_dir + "-all", exist_ok=True)
-    for names, to in ((GLIDERS, gl_dir), (GLIDERS_ALL, gl_dir + "-all")):
+    for names, to in ((GLIDERS, gliders_dir(gl_dir, False)), (GLIDERS_ALL, gliders_dir(gl_dir, True))):
+        os.makedirs(to, exist_ok=True)
         for g in names:
             src = os.path.join(ROOT, "examples", "training", g + ".glider.json")
             dst = os.path.join(to, g + ".glider.json")
