@@ -1411,11 +1411,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // `stepped` (optional): set for every candidate refitted from its step.
   // `carried` (optional): candidates refitted from their step whatever
   // their gain here (DiagnoseOptions::carry_steps).
-  // The fit to all gliders' leader: the candidate with the largest linearised
-  // gain there that passes the test's screen (-1: none).
-  int full_leader = -1;
+  // `leader` (optional): set to the candidate with the largest linearised
+  // gain that passes the test's screen (-1: none).
   auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
-                            std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr) {
+                            std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr,
+                            int* leader = nullptr) {
     StepSpace space = step_space(base, flights);
     std::vector<FreeParam>& free = space.free;  // the candidates' strengths follow the baseline's columns
     const std::vector<int>& base_cols = space.base_cols;
@@ -1478,8 +1478,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     std::sort(gains.rbegin(), gains.rend());
     std::sort(carried_gains.rbegin(), carried_gains.rend());
     std::sort(weak_gains.rbegin(), weak_gains.rend());
-    if (stepped && !carried)  // (only the fit to all gliders asks for `stepped`)
-      full_leader = gains.empty() ? -1 : gains.front().second;
+    if (leader) *leader = gains.empty() ? -1 : gains.front().second;
     std::vector<bool> keep(ne, false);
     std::string kept;
     int places = o.profiled_candidates;
@@ -1505,8 +1504,10 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     return starts;
   };
   auto fit_effects_from = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
-                              std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr) {
+                              std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr,
+                              int* leader = nullptr) {
     if (stepped) stepped->assign(ne, false);
+    if (leader) *leader = -1;
     const bool profiled = o.profile && o.polish <= 0 && centre_count(base.model.coefficients) > 0 &&
                           profiled_on(gliders_of(flights));
     // The fixed-coefficient fits keep the coefficients the baseline had
@@ -1517,7 +1518,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // baseline all the same.
     const FitOutcome before = base;
     std::vector<std::vector<DiagModel>> starts;
-    if (profiled) starts = profile_starts(base, flights, label, stepped, carried);
+    if (profiled) starts = profile_starts(base, flights, label, stepped, carried, leader);
     std::vector<FitOutcome> out = fit_effects(before, flights, label, true, {}, {}, false, profiled ? &starts : nullptr);
     // A per-flight candidate (every flight's own launch pitch rate) has no
     // shared strength to step: its centre values are stepped from its own
@@ -1734,6 +1735,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   FitOutcome base_full;
   std::vector<FitOutcome> eff_full(ne);
   std::vector<bool> full_stepped(ne, false);  // candidates refitted from their linearised step on all gliders
+  int full_leader = -1;  // the largest linearised gain there that passes the test's screen (-1: none)
   int full_centres = 0;
   if (o.full_fit) {
     const auto tf = Clock::now();
@@ -1746,7 +1748,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     full_centres = centre_count(base_full.model.coefficients);
     report("baseline", "all gliders: baseline RMSE " + cm(base_full.rmse()) + " (" + std::to_string(full_centres) +
                            " centres, launches and trims fitted)");
-    eff_full = fit_effects_from(base_full, all_flights, "all gliders", &full_stepped);
+    eff_full = fit_effects_from(base_full, all_flights, "all gliders", &full_stepped, nullptr, &full_leader);
     res.model = base_full.model.coefficients;
     res.trim = base_full.model.trim;
     timings["all_gliders_s"] = since(tf);
