@@ -1389,6 +1389,26 @@ TEST(DiagnoseStatistics, TheBoundGuardCountsTheGainOfFoldsFittedAtTheEdgeOfTheRa
   EXPECT_THROW(fold_bound_share(Effect::AddedMass, {{1}}, {std::numeric_limits<double>::infinity()}), InputError);
 }
 
+// The leader's start skips values at the bound guard's edge
+// (values_at_range_edge): the same edge as the guard's, the outer tenth of a
+// non-zero bound (ground effect's and added mass's strengths run 0 to 3, so
+// 2.7 is at it; wind -15 to 15 m/s; the camera's two parameters +-0.5).
+TEST(DiagnoseStatistics, ValuesAtTheEdgeOfTheRangeAreTheBoundGuardsEdge) {
+  EXPECT_TRUE(values_at_range_edge(Effect::GroundEffect, {3.0}));
+  EXPECT_TRUE(values_at_range_edge(Effect::AddedMass, {2.7}));
+  EXPECT_FALSE(values_at_range_edge(Effect::AddedMass, {2.69}));
+  EXPECT_FALSE(values_at_range_edge(Effect::FiniteSpan, {0.55}));
+  EXPECT_FALSE(values_at_range_edge(Effect::PitchDamping, {0.0}));  // the lower bound 0 is the baseline
+  EXPECT_TRUE(values_at_range_edge(Effect::Wind, {-14.0}));
+  EXPECT_FALSE(values_at_range_edge(Effect::Wind, {-1.0}));
+  EXPECT_TRUE(values_at_range_edge(Effect::Camera, {0.01, -0.46}));
+  EXPECT_FALSE(values_at_range_edge(Effect::Camera, {0.01, 0.02}));
+  // Agrees with the guard: a fold at such values counts all its gain.
+  EXPECT_DOUBLE_EQ(fold_bound_share(Effect::GroundEffect, {{3.0}}, {1}), 1.0);
+  EXPECT_THROW(values_at_range_edge(Effect::Camera, {0.01}), InputError);
+  EXPECT_THROW(values_at_range_edge(Effect::AddedMass, {std::nan("")}), InputError);
+}
+
 // The likelihood ratios' reference: a candidate whose fit to all gliders
 // ended with every parameter at 0 (the baseline model) but a smaller sum
 // of squares than the baseline's fit is a better baseline fit (blind

@@ -656,6 +656,13 @@ bool glider_guard_pass(double robust_shrink, double margin, int improved, int to
 double fold_bound_share(Effect e, const std::vector<std::vector<double>>& fold_params,
                         const std::vector<double>& fold_gain);
 
+/// Whether any of effect `e`'s parameter values lies at the bound guard's
+/// edge of its range (the outer tenth of a non-zero bound, on that bound's
+/// side; fold_bound_share). The leader's start on all gliders is not made
+/// from such values (DiagnoseOptions::carry_steps). InputError for a count
+/// that is not the effect's or a value that is not finite.
+bool values_at_range_edge(Effect e, const std::vector<double>& values);
+
 /// The fit the likelihood-ratio tests on all gliders are measured against.
 /// A candidate fitted with every parameter at the baseline's value (0) is a
 /// fit of the baseline model; when it explains the flights better than the
