@@ -1814,8 +1814,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         // fail the bound guard where the folds followed it, so the ramp
         // there (four fits per fold) cannot lead to a verdict for it (blind
         // pitch damping at 1, seed 28: ground effect at 3 of its range's 3
-        // led all gliders' screen and was ramped there in every fold,
-        // 1230 s against 340-1000 s for the other misses run with it).
+        // led all gliders' screen and was ramped there in every fold, for
+        // nothing: 1230 s, where eight of the ten other misses took 290-710 s).
         if (values_at_range_edge(o.effects[full_leader], lead_values))
           report("fold", label + ": " + effect_name(o.effects[full_leader]) +
                              "'s fit on all gliders is at the edge of its range: not started there", false);
