@@ -1815,7 +1815,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         // there (four fits per fold) cannot lead to a verdict for it (blind
         // pitch damping at 1, seed 28: ground effect at 3 of its range's 3
         // led all gliders' screen and was ramped there in every fold, for
-        // nothing: 1230 s, where eight of the ten other misses took 290-710 s).
+        // nothing).
         if (values_at_range_edge(o.effects[full_leader], lead_values))
           report("fold", label + ": " + effect_name(o.effects[full_leader]) +
                              "'s fit on all gliders is at the edge of its range: not started there", false);

@@ -189,7 +189,13 @@ struct DiagnoseOptions {
   /// oracle's 8.3 %; carried: named, 7.2 %). On null data it changes
   /// nothing unless a candidate passed the step's threshold on all gliders
   /// (5 of the blind benchmark's 79 null seeds; on those 5 re-run with it,
-  /// none significant).
+  /// none significant). With it too, the leader's start: the aerodynamic
+  /// correction whose linearised gain led the screen on all gliders is also
+  /// started in every fold at the strength fitted there, ramped in four
+  /// steps, unless that strength lies at the bound guard's edge of its
+  /// range (values_at_range_edge); the fold's training gliders decide where
+  /// it ends (blind finite span at 1, seed 42: a fold's 0 became 0.87 and
+  /// the verdict finite span; on the eleven other misses no verdict changed).
   bool carry_steps = true;
   /// Held-out-led steps: a candidate the held-out gliders confirm (held-out
   /// shrink by the margin, its held-out chi-square test, the glider guard,
