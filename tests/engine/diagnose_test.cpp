@@ -683,6 +683,31 @@ TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) 
   EXPECT_TRUE(ramps(false).empty());
 }
 
+// The leader's start's edge rule: a leader whose fit to all gliders ends at
+// the bound guard's edge of its range is not started there in the folds.
+// Flights with pitch damping at 4, beyond its range's bound of 3 (2 mm
+// noise): the fit to all gliders can only end at the bound, so every fold
+// says so and none ramps to it; at 1 (the test above) every fold ramps.
+TEST(Diagnose, ALeaderFittedAtTheEdgeOfItsRangeIsNotStartedThereInTheFolds) {
+  EffectValues truth;
+  truth.pitch_damping = 4.0;
+  const Dataset d = corrected_flights(truth, 0.002, 5);
+  const DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping});
+  ASSERT_GT(truth.pitch_damping, effect_spec(Effect::PitchDamping).parameters[0].upper);
+  const std::regex edge(R"(^fold (\d)/3: pitch_damping's fit on all gliders is at the edge of its range: not started there)");
+  std::set<int> skipped;
+  int ramps = 0;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) {
+    std::smatch m;
+    if (std::regex_search(p.message, m, edge)) skipped.insert(std::stoi(m[1].str()));
+    if (p.message.find("switched on to its strength on all gliders") != std::string::npos) ++ramps;
+  });
+  EXPECT_EQ(skipped, (std::set<int>{1, 2, 3}));
+  EXPECT_EQ(ramps, 0);
+  ASSERT_EQ(r.effects.size(), 1u);
+  EXPECT_TRUE(values_at_range_edge(Effect::PitchDamping, r.effects[0].parameters)) << r.effects[0].parameters[0];
+}
+
 // The profiled starts' screen in the folds (DiagnoseOptions::step_alpha).
 // Flights of the baseline model (2 mm noise), pitch damping and wind as
 // candidates: at the test's level (step_alpha 0: alpha) no linearised gain
