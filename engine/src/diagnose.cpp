@@ -1023,6 +1023,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // (below): -1 outside the folds' first fits.
   int lead_effect = -1;
   std::vector<double> lead_values;
+  std::map<int, LaunchParams> lead_launches;  // the leader's fit to all gliders: each flight's launch
+  std::vector<double> lead_trim;              // and each glider's trim
   auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                          bool counted = true, std::vector<int> which = {}, const std::vector<FreeParam>& extra = {},
                          bool conditional = false, const std::vector<std::vector<DiagModel>>* profiled = nullptr) {
@@ -1094,7 +1096,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       out[e] = settled(start, flights, free, &start_launches);
       mean_rate(out[e]);
       if (theory_start) {
-        // Reached the oracle's way: the strength switched on in quarter
+        // A theoretical-size start is reached the oracle's way (the
+        // leader's start from the fit to all gliders, below): the strength switched on in quarter
         // steps with the launches and trims settled at each from the step
         // before, so that at full size the flights are not started from
         // the baseline's launches in a poor basin (blind pitch damping at
@@ -1107,34 +1110,51 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         // strength (a null dataset's pitch damping: 6.2 cm at full size
         // against the baseline's 1.4 cm), and the start would be skipped
         // at full size anyway; its settling passes are skipped too.
-        // The leader's ramp settles only its last step (repeated until a
-        // pass gains nothing): the steps before it carry the launches and
-        // trims along with one fit each (settled at every step, it took
-        // 613-1386 s a fold on 20 gliders: blind finite span s29-g20).
         const double too_far = kTheoryStartFactor * base.sse;
         FitOutcome r = base;
-        int reached = 0;
-        for (int k = 1; k <= kRampSteps; ++k) {
-          DiagModel m = r.model;
+        std::string how;
+        if (to_lead) {
+          // The leader's start needs no ramp: the fit to all gliders has
+          // the fold's training flights' launches and their gliders' trims
+          // at the leader's strength already, so the start takes them with
+          // the fold's centre values, one settled fit (ramped from the
+          // fold's baseline in four settled steps it took 613-1386 s a
+          // fold on 20 gliders: blind finite span s29-g20).
+          DiagModel m = base.model;
           for (std::size_t i = 0; i < sp.parameters.size(); ++i)
-            m.effects.at(o.effects[e], static_cast<int>(i)) =
-                (to_lead ? lead_values.at(i) : 1.0) * static_cast<double>(k) / kRampSteps;
-          const auto w = launches_of(r);
-          r = to_lead && k < kRampSteps ? D.fit(m, flights, trims, &w) : settled(m, flights, trims, &w, too_far);
-          reached = k;
-          if (r.sse > too_far) break;
+            m.effects.at(o.effects[e], static_cast<int>(i)) = lead_values.at(i);
+          for (const auto& t : trims) {
+            if (t.kind != FreeParam::Trim) continue;
+            if (m.trim.size() < lead_trim.size()) m.trim.resize(lead_trim.size(), 0.0);
+            m.trim.at(t.index) = lead_trim.at(t.index);
+          }
+          std::vector<LaunchParams> w;
+          for (int f : flights) w.push_back(lead_launches.at(f));
+          r = settled(m, flights, trims, &w, too_far);
+          how = "started at its strength on all gliders (" + describe_parameters(o.effects[e], lead_values) +
+                ") from the launches and trims fitted there";
+        } else {
+          int reached = 0;
+          for (int k = 1; k <= kRampSteps; ++k) {
+            DiagModel m = r.model;
+            for (std::size_t i = 0; i < sp.parameters.size(); ++i)
+              m.effects.at(o.effects[e], static_cast<int>(i)) = static_cast<double>(k) / kRampSteps;
+            const auto w = launches_of(r);
+            r = settled(m, flights, trims, &w, too_far);
+            reached = k;
+            if (r.sse > too_far) break;
+          }
+          how = r.sse > too_far ? "switched on: at " + std::to_string(reached) + "/" + std::to_string(kRampSteps) +
+                                      " of " + size_name
+                                : "switched on to " + size_name + " in " + std::to_string(kRampSteps) +
+                                      " steps, launches and trims refitted";
         }
         if (r.sse > too_far) {
-          report("effect", label + ": " + effect_name(o.effects[e]) + " switched on: at " + std::to_string(reached) +
-                               "/" + std::to_string(kRampSteps) + " of " + size_name + " already RMSE " +
+          report("effect", label + ": " + effect_name(o.effects[e]) + " " + how + (to_lead ? ":" : "") + " already RMSE " +
                                cm(r.rmse()) + ", too far from the baseline's " + cm(base.rmse()) +
                                "; no start from there", false);
         } else {
-          report("effect", label + ": " + effect_name(o.effects[e]) + " switched on to " + size_name +
-                               (to_lead ? " (" + describe_parameters(o.effects[e], lead_values) + ")" : std::string()) +
-                               " in " +
-                               std::to_string(kRampSteps) + " steps, launches and trims refitted: RMSE " +
-                               cm(r.rmse()), false);
+          report("effect", label + ": " + effect_name(o.effects[e]) + " " + how + ": RMSE " + cm(r.rmse()), false);
           theory = std::move(r);
         }
       }
@@ -1823,8 +1843,12 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         if (values_at_range_edge(o.effects[full_leader], lead_values))
           report("fold", label + ": " + effect_name(o.effects[full_leader]) +
                              "'s fit on all gliders is at the edge of its range: not started there", false);
-        else
+        else {
           lead_effect = full_leader;
+          lead_launches.clear();
+          for (const auto& f : eff_full[full_leader].flights) lead_launches[f.flight] = f.launch;
+          lead_trim = eff_full[full_leader].model.trim;
+        }
       }
     }
     std::vector<FitOutcome> trs =

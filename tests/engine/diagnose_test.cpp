@@ -655,7 +655,7 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
 // The all-gliders leader's start in the folds (under carry_steps): the
 // aerodynamic correction that led the profiled screen on all gliders is
 // also started in every fold at the strength the fit to all gliders found,
-// ramped in four steps. Flights with pitch damping at full size (2 mm
+// from the launches and trims fitted there. Flights with pitch damping at full size (2 mm
 // noise): pitch damping leads on all gliders (fitted 0.97), and every
 // fold's progress says it was switched on to that strength; without
 // carried steps no fold does. (Where the leader's fit to all gliders ends
@@ -666,7 +666,7 @@ TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) 
   truth.pitch_damping = 1.0;
   const Dataset d = corrected_flights(truth, 0.002, 5);
   DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping});
-  const std::regex ramp(R"(^fold (\d)/3: pitch_damping switched on to its strength on all gliders \(strength ([0-9.e-]+)\) in 4 steps)");
+  const std::regex ramp(R"(^fold (\d)/3: pitch_damping started at its strength on all gliders \(strength ([0-9.e-]+)\) from the launches and trims fitted there)");
   auto ramps = [&](bool carry) {
     o.carry_steps = carry;
     std::set<int> folds;
@@ -687,7 +687,7 @@ TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) 
 // the bound guard's edge of its range is not started there in the folds.
 // Flights with pitch damping at 4, beyond its range's bound of 3 (2 mm
 // noise): the fit to all gliders can only end at the bound, so every fold
-// says so and none ramps to it; at 1 (the test above) every fold ramps.
+// says so and none starts there; at 1 (the test above) every fold does.
 TEST(Diagnose, ALeaderFittedAtTheEdgeOfItsRangeIsNotStartedThereInTheFolds) {
   EffectValues truth;
   truth.pitch_damping = 4.0;
@@ -700,7 +700,7 @@ TEST(Diagnose, ALeaderFittedAtTheEdgeOfItsRangeIsNotStartedThereInTheFolds) {
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) {
     std::smatch m;
     if (std::regex_search(p.message, m, edge)) skipped.insert(std::stoi(m[1].str()));
-    if (p.message.find("switched on to its strength on all gliders") != std::string::npos) ++ramps;
+    if (p.message.find("at its strength on all gliders (") != std::string::npos) ++ramps;
   });
   EXPECT_EQ(skipped, (std::set<int>{1, 2, 3}));
   EXPECT_EQ(ramps, 0);
