@@ -191,9 +191,9 @@ struct DiagnoseOptions {
   /// (5 of the blind benchmark's 79 null seeds; on those 5 re-run with it,
   /// none significant). With it too, the leader's start: the aerodynamic
   /// correction whose linearised gain led the screen on all gliders is also
-  /// started in every fold at the strength fitted there, ramped in four
-  /// steps, unless that strength lies at the bound guard's edge of its
-  /// range (values_at_range_edge); the fold's training gliders decide where
+  /// started in every fold at the strength fitted there, from the launches
+  /// and trims fitted there with it (one settled fit), unless that strength
+  /// lies at the bound guard's edge of its range (values_at_range_edge); the fold's training gliders decide where
   /// it ends (blind finite span at 1, seed 42: a fold's 0 became 0.87 and
   /// the verdict finite span; on the eleven other misses no verdict changed).
   bool carry_steps = true;
