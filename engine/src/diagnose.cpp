@@ -1097,9 +1097,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       mean_rate(out[e]);
       if (theory_start) {
         // A theoretical-size start is reached the oracle's way (the
-        // leader's start from the fit to all gliders, below): the strength switched on in quarter
-        // steps with the launches and trims settled at each from the step
-        // before, so that at full size the flights are not started from
+        // leader's start from the fit to all gliders, below): the strength
+        // switched on in quarter steps with the launches and trims settled
+        // at each from the step before, so that at full size the flights are not started from
         // the baseline's launches in a poor basin (blind pitch damping at
         // 1, seed 26: the jump to strength 1 with the baseline's launches
         // refitted to 0.43 on all gliders and lost to the baseline, where

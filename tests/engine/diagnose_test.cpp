@@ -655,9 +655,9 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
 // The all-gliders leader's start in the folds (under carry_steps): the
 // aerodynamic correction that led the profiled screen on all gliders is
 // also started in every fold at the strength the fit to all gliders found,
-// from the launches and trims fitted there. Flights with pitch damping at full size (2 mm
-// noise): pitch damping leads on all gliders (fitted 0.97), and every
-// fold's progress says it was switched on to that strength; without
+// from the launches and trims fitted there. Flights with pitch damping at
+// full size (2 mm noise): pitch damping leads on all gliders (fitted 0.97),
+// and every fold's progress says it was started at that strength; without
 // carried steps no fold does. (Where the leader's fit to all gliders ends
 // at 0 there is nothing to start from: pitch damping on one glider of
 // three, CarriedStepsRefitTheAllGliderCandidatesInEveryFold's flights.)
@@ -666,21 +666,21 @@ TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) 
   truth.pitch_damping = 1.0;
   const Dataset d = corrected_flights(truth, 0.002, 5);
   DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping});
-  const std::regex ramp(R"(^fold (\d)/3: pitch_damping started at its strength on all gliders \(strength ([0-9.e-]+)\) from the launches and trims fitted there)");
-  auto ramps = [&](bool carry) {
+  const std::regex start(R"(^fold (\d)/3: pitch_damping started at its strength on all gliders \(strength ([0-9.e-]+)\) from the launches and trims fitted there)");
+  auto starts = [&](bool carry) {
     o.carry_steps = carry;
     std::set<int> folds;
     const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) {
       std::smatch m;
-      if (std::regex_search(p.message, m, ramp)) {
+      if (std::regex_search(p.message, m, start)) {
         EXPECT_GT(std::stod(m[2].str()), 0.0) << p.message;
         folds.insert(std::stoi(m[1].str()));
       }
     });
     return folds;
   };
-  EXPECT_EQ(ramps(true), (std::set<int>{1, 2, 3}));
-  EXPECT_TRUE(ramps(false).empty());
+  EXPECT_EQ(starts(true), (std::set<int>{1, 2, 3}));
+  EXPECT_TRUE(starts(false).empty());
 }
 
 // The leader's start's edge rule: a leader whose fit to all gliders ends at
@@ -696,14 +696,14 @@ TEST(Diagnose, ALeaderFittedAtTheEdgeOfItsRangeIsNotStartedThereInTheFolds) {
   ASSERT_GT(truth.pitch_damping, effect_spec(Effect::PitchDamping).parameters[0].upper);
   const std::regex edge(R"(^fold (\d)/3: pitch_damping's fit on all gliders is at the edge of its range: not started there)");
   std::set<int> skipped;
-  int ramps = 0;
+  int starts = 0;
   const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) {
     std::smatch m;
     if (std::regex_search(p.message, m, edge)) skipped.insert(std::stoi(m[1].str()));
-    if (p.message.find("at its strength on all gliders (") != std::string::npos) ++ramps;
+    if (p.message.find("at its strength on all gliders (") != std::string::npos) ++starts;
   });
   EXPECT_EQ(skipped, (std::set<int>{1, 2, 3}));
-  EXPECT_EQ(ramps, 0);
+  EXPECT_EQ(starts, 0);
   ASSERT_EQ(r.effects.size(), 1u);
   EXPECT_TRUE(values_at_range_edge(Effect::PitchDamping, r.effects[0].parameters)) << r.effects[0].parameters[0];
 }
