@@ -37,6 +37,10 @@ def main():
                     help="effects of the generated dataset (default physics: the six aerodynamic ones); with one "
                          "the diagnosis finds (e.g. wind), the second round runs too, the slowest case")
     ap.add_argument("--polish", type=int, default=0, help="passed to diagnose (default 0, its default)")
+    ap.add_argument("--generate-args", default="",
+                    help='further options for `pteromys generate`, e.g. the blind benchmark\'s recording protocol '
+                         '"--frame-rate 30 --points 30-45 --retrim 2 --speed-relative 1:1.3" (longer tracked '
+                         'windows: docs/diagnosis.md, "Speed")')
     ap.add_argument("--diagnose-args", default="",
                     help='further options for the diagnosis, e.g. "--step-alpha 1" (for experiments)')
     ap.add_argument("--no-report", action="store_true", help="time the diagnosis without the HTML report")
@@ -54,7 +58,7 @@ def main():
         t = time.time()
         subprocess.run([pt, "generate"] + gliders + ["-o", data, "--effects", args.effects, "--seed", str(args.seed)] +
                        (["--noise-m", str(args.noise_m)] if args.noise_m is not None else []) + [
-                                                      "--quiet"], check=True)
+                                                      "--quiet"] + shlex.split(args.generate_args), check=True)
         print("dataset generated in %.1f s" % (time.time() - t))
     with open(os.path.join(data, "dataset.json")) as f:
         ds = json.load(f)

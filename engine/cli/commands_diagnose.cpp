@@ -116,6 +116,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard",
                              "--no-launch-withhold", "--no-launch-rates-confirm",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
+                             "--leader-start", "--no-leader-start",
                              "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight",
@@ -151,6 +152,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--carry-steps") && a.flag("--no-carry-steps"))
     throw InputError("--carry-steps and --no-carry-steps contradict each other");
   o.carry_steps = !a.flag("--no-carry-steps");
+  if (a.flag("--leader-start") && a.flag("--no-leader-start"))
+    throw InputError("--leader-start and --no-leader-start contradict each other");
+  o.leader_start = !a.flag("--no-leader-start");
   if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
     throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
   o.heldout_steps = !a.flag("--no-heldout-steps");
@@ -314,6 +318,8 @@ const bool registered_diagnose = register_command(
          "                          their gain there, and the aerodynamic correction that led\n"
          "                          there is also started at its strength there, ramped: docs);\n"
          "                          --carry-steps: the default, explicitly\n"
+         "  --no-leader-start       keep the carried steps but not the leader's start (to\n"
+         "                          measure the two apart: docs); --leader-start: the default\n"
          "  --no-heldout-steps      by default a candidate the held-out gliders confirm but whose\n"
          "                          gain on all gliders was under the screen is refitted from its\n"
          "                          step there before its likelihood-ratio test (docs); with this\n"

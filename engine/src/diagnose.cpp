@@ -1846,7 +1846,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     report("fold", label + ": baseline RMSE " + cm(base_tr.rmse()) + " on training gliders, " + cm(base_ho.rmse()) +
                        " on held-out gliders");
     const auto coefficients_before = base_tr.model.coefficients;
-    if (o.carry_steps && o.full_fit && full_leader >= 0 && full_stepped[full_leader]) {
+    if (o.carry_steps && o.leader_start && o.full_fit && full_leader >= 0 && full_stepped[full_leader]) {
       lead_values = effect_values(eff_full[full_leader].model.effects, o.effects[full_leader]);
       if (std::any_of(lead_values.begin(), lead_values.end(), [](double v) { return v != 0.0; })) {
         // A strength fitted at the edge of its range on all gliders would
@@ -3220,6 +3220,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profile_min_gliders", o.profile_min_gliders},
                   {"profiled_candidates", o.profiled_candidates},
                   {"carry_steps", o.carry_steps},
+                  {"leader_start", o.leader_start},
                   {"heldout_steps", o.heldout_steps},
                   {"theory_starts", o.theory_starts},
                   {"hold_theory", o.hold_theory},

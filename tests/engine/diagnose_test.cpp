@@ -658,7 +658,8 @@ TEST(Diagnose, CarriedStepsRefitTheAllGliderCandidatesInEveryFold) {
 // from the launches and trims fitted there. Flights with pitch damping at
 // full size (2 mm noise): pitch damping leads on all gliders (fitted 0.97),
 // and every fold's progress says it was started at that strength; without
-// carried steps no fold does. (Where the leader's fit to all gliders ends
+// carried steps no fold does, nor with them but without the leader's start
+// (leader_start false). (Where the leader's fit to all gliders ends
 // at 0 there is nothing to start from: pitch damping on one glider of
 // three, CarriedStepsRefitTheAllGliderCandidatesInEveryFold's flights.)
 TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) {
@@ -667,8 +668,9 @@ TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) 
   const Dataset d = corrected_flights(truth, 0.002, 5);
   DiagnoseOptions o = profiled_diagnosis({Effect::PitchDamping});
   const std::regex start(R"(^fold (\d)/3: pitch_damping started at its strength on all gliders \(strength ([0-9.e-]+)\) from the launches and trims fitted there)");
-  auto starts = [&](bool carry) {
+  auto starts = [&](bool carry, bool lead = true) {
     o.carry_steps = carry;
+    o.leader_start = lead;
     std::set<int> folds;
     const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) {
       std::smatch m;
@@ -681,6 +683,7 @@ TEST(Diagnose, TheLeaderOnAllGlidersIsAlsoStartedAtItsStrengthThereInEveryFold) 
   };
   EXPECT_EQ(starts(true), (std::set<int>{1, 2, 3}));
   EXPECT_TRUE(starts(false).empty());
+  EXPECT_TRUE(starts(true, false).empty());
 }
 
 // The leader's start's edge rule: a leader whose fit to all gliders ends at

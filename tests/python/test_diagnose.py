@@ -366,6 +366,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["profile_min_gliders"] == 6
     assert camera_case[1]["options"]["profiled_candidates"] == 3
     assert camera_case[1]["options"]["carry_steps"] is True
+    assert camera_case[1]["options"]["leader_start"] is True
     assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
     assert camera_case[1]["options"]["refit_unstepped"] is True  # on by default since 2026-11-30
     assert camera_case[1]["options"]["heldout_steps"] is True  # on by default since 2026-11-29
@@ -385,7 +386,8 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
-                                               "--no-carry-steps", "--no-bound-guard", "--no-heldout-steps",
+                                               "--no-carry-steps", "--no-leader-start", "--no-bound-guard",
+                                               "--no-heldout-steps",
                                                "--no-unstepped-refit", "--no-launch-withhold",
                                                "--no-launch-rates-confirm"])
     assert r.returncode == 0, r.stderr[-2000:]
@@ -399,6 +401,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert all(e["cross_validation"]["bound_pass"] for e in j["effects"])  # no guard, nothing it stops
     assert j["options"]["prefer_identifiable"] is True
     assert j["options"]["carry_steps"] is False
+    assert j["options"]["leader_start"] is False
     assert j["options"]["refit_unstepped"] is False
     # null data: nothing significant, so nothing to pass over
     assert "passed_over" not in j

@@ -201,6 +201,11 @@ struct DiagnoseOptions {
   /// changed; on finite span s38 it started downwash, the all-glider
   /// leader, and the verdict became downwash, wrong).
   bool carry_steps = true;
+  /// The leader's start of carry_steps alone (on by default; it runs only
+  /// with carry_steps): false keeps the carried steps and drops the start,
+  /// so that the two can be measured apart (blind finite span s38:
+  /// docs/diagnosis.md, *Carried steps*).
+  bool leader_start = true;
   /// Held-out-led steps: a candidate the held-out gliders confirm (held-out
   /// shrink by the margin, its held-out chi-square test, the glider guard,
   /// a plausible fit) but that was not refitted from its linearised step on
