@@ -192,9 +192,10 @@ struct DiagnoseOptions {
   /// none significant). With it too, the leader's start: the aerodynamic
   /// correction whose linearised gain led the screen on all gliders is also
   /// started in every fold at the strength fitted there, from the launches
-  /// and trims fitted there with it (one settled fit; ramped from the fold's
-  /// baseline in four steps where those do not fit the fold's centre
-  /// values), unless that strength lies at the bound guard's edge of its
+  /// and trims fitted there with it (one settled fit; where those do not
+  /// fit the fold's centre values, its linearised step in the fold is its
+  /// start, or when the fold's screen gave it none, a ramp from the fold's
+  /// baseline in four steps), unless that strength lies at the bound guard's edge of its
   /// range (values_at_range_edge); the fold's training gliders decide where
   /// it ends (blind finite span at 1, seed 42: a fold's 0 became 0.87 and
   /// the verdict finite span; on the eleven other misses no verdict
