@@ -316,7 +316,7 @@ const bool registered_diagnose = register_command(
          "                          gain passes there (by default those refitted from their step\n"
          "                          on all gliders are refitted so in every fold too, whatever\n"
          "                          their gain there, and the aerodynamic correction that led\n"
-         "                          there is also started at its strength there, ramped: docs);\n"
+         "                          there is also started at its strength there: docs);\n"
          "                          --carry-steps: the default, explicitly\n"
          "  --no-leader-start       keep the carried steps but not the leader's start (to\n"
          "                          measure the two apart: docs); --leader-start: the default\n"

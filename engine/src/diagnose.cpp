@@ -1055,6 +1055,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       // training gliders at 1.4 cm against 1.7).
       const bool to_lead = ramp_possible && !o.theory_starts && e == lead_effect;
       const bool theory_start = (o.theory_starts && ramp_possible) || to_lead;
+      const bool has_step = profiled && !(*profiled)[e].empty();  // a linearised step of its own in this fit
       const std::string size_name = to_lead ? "its strength on all gliders" : "its theoretical size";
       std::optional<FitOutcome> theory;
       // Start where a launch-only refit explains the flights best: at zero
@@ -1114,6 +1115,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         FitOutcome r = base;
         std::string how;
         bool ramp = !to_lead;
+        bool step_instead = false;  // the leader's start too far, its linearised step its start instead
         if (to_lead) {
           // The leader's start first takes the launches and trims of the
           // fit to all gliders, which has the fold's training flights at the
@@ -1146,15 +1148,14 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
           // 862c527: folds 2 and 3 fitted 0.885 and 1.02 from the ramp, 1.4
           // and 1.3 cm, and 0.51 and 1.02 from the step, 1.4 cm each;
           // s29-g20's fold 2 held out 1.5 cm either way).
-          const bool stepped_here = profiled && !(*profiled)[e].empty();
           if (r.sse > too_far) {
             report("effect", label + ": " + effect_name(o.effects[e]) + " " + how + ": RMSE " + cm(r.rmse()) +
                                  ", too far from the baseline's " + cm(base.rmse()) +
-                                 (stepped_here ? "; its linearised step here is its start instead"
-                                               : "; ramped from the baseline instead"),
+                                 (has_step ? "; its linearised step here is its start instead"
+                                           : "; ramped from the baseline instead"),
                    false);
-            if (stepped_here) how.clear();
-            else {
+            step_instead = has_step;
+            if (!has_step) {
               r = base;
               ramp = true;
             }
@@ -1178,8 +1179,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
                                       (to_lead ? " (" + describe_parameters(o.effects[e], lead_values) + ")" : "") +
                                       " in " + std::to_string(kRampSteps) + " steps, launches and trims refitted";
         }
-        if (how.empty()) {
-          // (the leader's start too far, its linearised step taken instead: reported above)
+        if (step_instead) {
+          // reported above
         } else if (r.sse > too_far) {
           report("effect", label + ": " + effect_name(o.effects[e]) + " " + how + " already RMSE " + cm(r.rmse()) +
                                ", too far from the baseline's " + cm(base.rmse()) + "; no start from there",
@@ -1189,7 +1190,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
           theory = std::move(r);
         }
       }
-      if (profiled && !(*profiled)[e].empty()) {
+      if (has_step) {
         const auto& steps = (*profiled)[e];
         const double give_up = kGiveUpFactor * out[e].sse;
         FitOutcome p = settled(steps[0], flights, free, &warm, give_up);

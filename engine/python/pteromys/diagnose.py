@@ -24,8 +24,9 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
              heldout_steps=True, escalate=False,
-             prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, theory_starts=False, hold_theory=False,
-             step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0, progress=None):
+             prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, theory_starts=False,
+             hold_theory=False, step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0,
+             progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
