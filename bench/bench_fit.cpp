@@ -9,7 +9,9 @@
 //  - fit/ten_centres_exact: noise-free flights (0.1 mm), 10 centres: the
 //    solver works hardest when the residuals are smallest.
 //  - launch_fit: eq. 5 for one flight, multi-start (cold) and warm.
-//  - simulate_track: one 20-point flight.
+//  - simulate_track: one 20-point flight; _effect: the same with one of the
+//    diagnosis's aerodynamic corrections (none, finite_span, downwash,
+//    ground_effect at strength 1).
 //  - tables: force tables of all 20 gliders for a 10-centre model (the table
 //    part of one residual evaluation).
 // Counters: rmse_m, centres, iterations, s/iteration (solver iterations of
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
+#include "pteromys/effects.hpp"
 #include "pteromys/fit.hpp"
 #include "pteromys/io.hpp"
 #include "pteromys/mass.hpp"
@@ -134,6 +137,25 @@ void BM_SimulateTrack(benchmark::State& st) {
   for (auto _ : st) benchmark::DoNotOptimize(simulate_track(qa, o.body, p, t).positions.back().x);
 }
 
+// The same flight with one aerodynamic correction of the diagnosis's library
+// (EffectAero, strength 1): 0 none, 1 finite_span, 2 downwash, 3 ground_effect.
+// The corrections that iterate the induced angle cost more per simulation.
+void BM_SimulateTrackEffect(benchmark::State& st) {
+  const OneFlight o = one_flight();
+  const GliderFeatures f = glider_features(o.d.gliders.at(o.f->glider));
+  EffectValues v;
+  const int k = static_cast<int>(st.range(0));
+  if (k == 1) v.finite_span = 1.0;
+  if (k == 2) v.downwash = 1.0;
+  if (k == 3) v.ground_effect = 1.0;
+  const EffectAero ea(*o.mg, f, v);
+  std::vector<double> t;
+  for (int i = 0; i < 20; ++i) t.push_back(o.f->points[0].t + i / 30.0);
+  LaunchParams p = initial_launch_guess(o.f->points);
+  for (auto _ : st) benchmark::DoNotOptimize(simulate_track(ea, o.body, p, t).positions.back().x);
+  st.SetLabel(k == 0 ? "none" : k == 1 ? "finite_span" : k == 2 ? "downwash" : "ground_effect");
+}
+
 void BM_TablesForTenCentres(benchmark::State& st) {
   const auto gl = training_gliders();
   auto prior = std::make_shared<FlatPlateModel>();
@@ -161,5 +183,6 @@ BENCHMARK(BM_FitTenCentresExact)->Name("fit/ten_centres_exact")->Unit(benchmark:
 BENCHMARK(BM_LaunchFitCold)->Name("launch_fit/cold")->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LaunchFitWarm)->Name("launch_fit/warm")->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SimulateTrack)->Name("simulate_track/20_points")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SimulateTrackEffect)->Name("simulate_track/20_points_effect")->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_TablesForTenCentres)->Name("tables/20_gliders_10_centres")->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

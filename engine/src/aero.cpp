@@ -104,6 +104,44 @@ WingCoefs WingTable::lookup(const SpeedWeights& sw, double alpha) const {
   return c;
 }
 
+double WingTable::lift(const SpeedWeights& sw, double alpha, double* dlift_dalpha) const {
+  const double u = (alpha - a0_) / da_;
+  int ia;
+  double ta;
+  locate(u, na_, &ia, &ta);
+  double wa[4], da[4];
+  catmull_rom(ta, wa);
+  // d/dt of the Catmull-Rom weights; beyond the table the look-up is constant.
+  const bool inside = u > 0 && u < na_ - 1;
+  const double t2 = ta * ta;
+  da[0] = 0.5 * (-3 * t2 + 4 * ta - 1);
+  da[1] = 0.5 * (9 * t2 - 10 * ta);
+  da[2] = 0.5 * (-9 * t2 + 8 * ta + 1);
+  da[3] = 0.5 * (3 * t2 - 2 * ta);
+  double l = 0, dl = 0;
+  const bool inner = ia >= 1 && ia + 2 < na_;
+  for (int p = 0; p < 4; ++p) {
+    const int jv = std::clamp(sw.iv - 1 + p, 0, nv_ - 1);
+    const std::size_t row = static_cast<std::size_t>(jv) * na_;
+    double rl = 0, rdl = 0;
+    if (inner) {
+      const double* x = &dlm_[3 * (row + ia - 1) + 1];  // lift of 4 nodes
+      rl = wa[0] * x[0] + wa[1] * x[3] + wa[2] * x[6] + wa[3] * x[9];
+      rdl = da[0] * x[0] + da[1] * x[3] + da[2] * x[6] + da[3] * x[9];
+    } else {
+      for (int q = 0; q < 4; ++q) {
+        const double x = dlm_[3 * (row + std::clamp(ia - 1 + q, 0, na_ - 1)) + 1];
+        rl += wa[q] * x;
+        rdl += da[q] * x;
+      }
+    }
+    l += sw.w[p] * rl;
+    dl += sw.w[p] * rdl;
+  }
+  if (dlift_dalpha) *dlift_dalpha = inside ? dl / da_ : 0.0;
+  return l;
+}
+
 WingCoefs WingTable::lookup(double v, double alpha) const { return lookup(speed_weights(v), alpha); }
 
 WingCoefs wing_coefs_direct(const WingElements& el, const CoefficientModel& model,

@@ -369,6 +369,32 @@ EffectAero::EffectAero(const MountedGlider& g, const GliderFeatures& f, const Ef
   }
 }
 
+// The angle x with x + c C_L(x) = alpha_geo for wing j (its table at speed
+// weights sw), from x.
+double EffectAero::induced_solve(std::size_t j, const WingTable::SpeedWeights& sw, double c, double ageo,
+                                 double x) const {
+  // Newton with the table's local slope. Its convergence is quadratic, so
+  // once a step is below kStep the next would be of order kStep^2 / (the
+  // curvature's scale): two lift look-ups usually. Where the stall makes
+  // 1 + c C_L' small or negative the step uses the small-angle slope instead,
+  // relaxed, as a fixed-point iteration (linear convergence: stops below kTol).
+  constexpr double kStep = 1e-5, kTol = 1e-10;
+  constexpr int kMaxSteps = 8;
+  const auto& t = g_.aero().table(j);
+  const double area = f_.wings[j].area;
+  for (int k = 0; k < kMaxSteps; ++k) {
+    double dl = 0;
+    const double cl = t.lift(sw, wrap(x), &dl) / area;
+    double den = 1 + c * dl / area;
+    const bool newton = den >= 0.2;
+    if (!newton) den = std::max(0.2, 1 + c * slope_[j]);
+    const double dx = -(x + c * cl - ageo) / den;
+    x += dx;
+    if (std::abs(dx) < (newton ? kStep : kTol)) break;
+  }
+  return x;
+}
+
 void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
   const std::size_t n = f_.wings.size();
   const double cb = std::cos(s.beta), sb = std::sin(s.beta);
@@ -393,40 +419,57 @@ void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
       c[j] = (values_.finite_span - ge) / (kPi * wf.aspect_ratio * efficiency_[j]);
     }
   }
-  const int passes = iterate_ ? 4 : 1;
+  // Passes: the other wings' wakes (downwash) change each wing's local air
+  // velocity, so they are iterated in 4 passes; a wing's own induced angle
+  // (finite span, ground effect) is solved within each pass.
+  const bool wakes = values_.downwash != 0;
+  const int passes = wakes ? 4 : 1;
   // Interference: the wakes of the other wings, tabulated per wake angle
   // (GliderFeatures::wake_unit), scaled in each pass by V_i C_L,i.
   Vec2 unit[8][8];
-  if (values_.downwash != 0 && passes > 1) {
+  if (wakes) {
     const double psi = V > 0 ? std::atan2(a.y, -a.x) : 0.0;
     for (std::size_t i = 0; i < nn; ++i)
       for (std::size_t j = 0; j < nn; ++j) unit[i][j] = j == i ? Vec2{0, 0} : f_.wake_unit(i, j, psi);
   }
   for (int pass = 0; pass < passes; ++pass) {
+    Vec2 u_prev{0, 0};
+    double Vj = 0, g = 0;
+    WingTable::SpeedWeights sw;
     for (std::size_t j = 0; j < nn; ++j) {
+      // Without pitch damping or wakes every wing sees the CG's air velocity:
+      // its speed, flow angle and speed weights (one grid for all wings'
+      // tables) are computed once.
       const Vec2 u = aj[j] + w[j];
-      const double Vj = norm(u);
-      const double g = std::atan2(u.y, -u.x);
+      const bool same = j > 0 && u.x == u_prev.x && u.y == u_prev.y;
+      if (!same) {
+        Vj = norm(u);
+        g = std::atan2(u.y, -u.x);
+      }
+      u_prev = u;
       const double ageo = g + deg2rad(mounts[j].angle_deg);
-      if (!coefs && passes == 1) {
-        // The angles alone (max_alpha): one pass has no induced angle (c is
-        // zero, eps stays 0), so nothing below feeds the tables back into them.
+      if (!coefs && !iterate_) {
+        // The angles alone (max_alpha): no induced angle (c is zero, eps
+        // stays 0), so nothing below feeds the tables back into them.
         out[j].speed = Vj;
         out[j].alpha = wrap(ageo);
         out[j].gamma = wrap(g);
         continue;
       }
       const auto& t = g_.aero().table(j);
-      // Both look-ups of this pass are at the same speed: its weights once.
-      const WingTable::SpeedWeights sw = t.speed_weights(Vj);
+      // All look-ups of this pass are at the same speed: its weights once.
+      if (!same || j == 0) sw = t.speed_weights(Vj);
       double x = ageo - eps[j];
       if (c[j] != 0) {
-        // One relaxed Newton step per pass on x + c C_L(x) = alpha_geo with the
-        // table's small-angle slope (exact in the linear range).
-        const double cl = t.lookup(sw, wrap(x)).lift / f_.wings[j].area;
-        const double den = std::max(0.2, 1 + c[j] * slope_[j]);
-        x -= (x + c[j] * cl - ageo) / den;
+        x = induced_solve(j, sw, c[j], ageo, x);
         eps[j] = ageo - x;
+      }
+      if (!coefs && !wakes) {
+        // max_alpha: no other wing needs this wing's lift.
+        out[j].speed = Vj;
+        out[j].alpha = wrap(x);
+        out[j].gamma = wrap(g - eps[j]);
+        continue;
       }
       out[j].coefs = t.lookup(sw, wrap(x));
       out[j].speed = Vj;
@@ -434,7 +477,7 @@ void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
       out[j].gamma = wrap(g - eps[j]);
       out[j].cl = out[j].coefs.lift / f_.wings[j].area;
     }
-    if (pass + 1 == passes || values_.downwash == 0) continue;
+    if (pass + 1 == passes) continue;
     // Interference: the other wings' wakes, circulation 1/2 V_i C_L,i c(z)
     // (strip loading) from this pass's table lift.
     for (std::size_t j = 0; j < nn; ++j) w[j] = {0, 0};

@@ -555,6 +555,7 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
     (["diagnose", "DS", "--json", "OUT", "--profiled-candidates", "-1"], "--profiled-candidates"),
     (["diagnose", "DS", "--json", "OUT", "--carry-steps", "--no-carry-steps"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--leader-start", "--no-leader-start"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--step-per-flight", "--no-step-per-flight"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--heldout-steps", "--no-heldout-steps"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--theory-starts", "--no-theory-starts"], "contradict"),

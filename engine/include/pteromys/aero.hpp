@@ -46,6 +46,9 @@ class WingTable {
   WingCoefs lookup(double v, double alpha) const;
   SpeedWeights speed_weights(double v) const;
   WingCoefs lookup(const SpeedWeights& sw, double alpha) const;
+  /// The lift column of lookup(sw, alpha) alone and, if asked, its derivative
+  /// in alpha (of the same bicubic interpolation; 0 beyond the table).
+  double lift(const SpeedWeights& sw, double alpha, double* dlift_dalpha = nullptr) const;
   double alpha_limit() const { return alpha_max_; }
   int nv() const { return nv_; }
   int na() const { return na_; }

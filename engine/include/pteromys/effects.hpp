@@ -257,6 +257,7 @@ class EffectAero final : public AeroForces {
   /// `coefs` false: only speed, alpha and gamma are wanted (max_alpha); when
   /// no pass iterates they do not depend on the tables, which are skipped.
   void flows(const FlightState& s, WingFlow* out, bool coefs = true) const;
+  double induced_solve(std::size_t j, const WingTable::SpeedWeights& sw, double c, double ageo, double x) const;
   const MountedGlider& g_;
   const GliderFeatures& f_;
   EffectValues values_;
