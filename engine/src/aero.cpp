@@ -64,11 +64,15 @@ WingTable::WingTable(const WingElements& el, const CoefficientModel& model, cons
     }
 }
 
-WingTable::SpeedWeights WingTable::speed_weights(double v) const {
-  SpeedWeights sw;
+void WingTable::speed_weights(double v, SpeedWeights& sw) const {
   double tv;
   locate((std::log(std::max(v, 1e-9)) - lv0_) / dlv_, nv_, &sw.iv, &tv);
   catmull_rom(tv, sw.w);
+}
+
+WingTable::SpeedWeights WingTable::speed_weights(double v) const {
+  SpeedWeights sw;
+  speed_weights(v, sw);
   return sw;
 }
 

@@ -458,7 +458,7 @@ void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
       }
       const auto& t = g_.aero().table(j);
       // All look-ups of this pass are at the same speed: its weights once.
-      if (!same || j == 0) sw = t.speed_weights(Vj);
+      if (!same) t.speed_weights(Vj, sw);
       double x = ageo - eps[j];
       if (c[j] != 0) {
         x = induced_solve(j, sw, c[j], ageo, x);

@@ -45,6 +45,9 @@ class WingTable {
             const TableGrid& grid = {});
   WingCoefs lookup(double v, double alpha) const;
   SpeedWeights speed_weights(double v) const;
+  /// The same, written into `out` (no copy of a returned struct: in a loop
+  /// that keeps one across iterations the copy stalled on its fresh stores).
+  void speed_weights(double v, SpeedWeights& out) const;
   WingCoefs lookup(const SpeedWeights& sw, double alpha) const;
   /// The lift column of lookup(sw, alpha) alone and, if asked, its derivative
   /// in alpha (of the same bicubic interpolation; 0 beyond the table).
