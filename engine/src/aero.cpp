@@ -15,6 +15,15 @@ inline void catmull_rom(double t, double w[4]) {
   w[3] = 0.5 * (t3 - t2);
 }
 
+/// d/dt of catmull_rom's weights.
+inline void catmull_rom_slope(double t, double d[4]) {
+  const double t2 = t * t;
+  d[0] = 0.5 * (-3 * t2 + 4 * t - 1);
+  d[1] = 0.5 * (9 * t2 - 10 * t);
+  d[2] = 0.5 * (-9 * t2 + 8 * t + 1);
+  d[3] = 0.5 * (3 * t2 - 2 * t);
+}
+
 inline void locate(double u, int n, int* i, double* t) {
   if (u <= 0) { *i = 0; *t = 0; return; }
   if (u >= n - 1) { *i = n - 2; *t = 1; return; }
@@ -115,13 +124,9 @@ double WingTable::lift(const SpeedWeights& sw, double alpha, double* dlift_dalph
   locate(u, na_, &ia, &ta);
   double wa[4], da[4];
   catmull_rom(ta, wa);
-  // d/dt of the Catmull-Rom weights; beyond the table the look-up is constant.
+  catmull_rom_slope(ta, da);
+  // Beyond the table the look-up is constant.
   const bool inside = u > 0 && u < na_ - 1;
-  const double t2 = ta * ta;
-  da[0] = 0.5 * (-3 * t2 + 4 * ta - 1);
-  da[1] = 0.5 * (9 * t2 - 10 * ta);
-  da[2] = 0.5 * (-9 * t2 + 8 * ta + 1);
-  da[3] = 0.5 * (3 * t2 - 2 * ta);
   double l = 0, dl = 0;
   const bool inner = ia >= 1 && ia + 2 < na_;
   for (int p = 0; p < 4; ++p) {
