@@ -497,10 +497,31 @@ std::vector<WingFlow> EffectAero::wing_flows(const FlightState& s) const {
 
 Wrench EffectAero::evaluate(const FlightState& s) const {
   if (values_.aerodynamic_zero()) return base_.evaluate(s);
-  const double V = norm(s.v);
-  if (V < 1e-9) return {};
+  if (norm(s.v) < 1e-9) return {};
   WingFlow fl[8];
   flows(s, fl);
+  return wrench(s, fl);
+}
+
+Wrench EffectAero::evaluate_and_max_alpha(const FlightState& s, double& max_alpha_out) const {
+  if (values_.aerodynamic_zero()) return base_.evaluate_and_max_alpha(s, max_alpha_out);
+  if (norm(s.v) < 1e-9) {
+    max_alpha_out = base_.max_alpha(s);
+    return {};
+  }
+  // The angles flows() gives with its look-ups are the ones it gives without
+  // them (max_alpha): the same induced solve and wake passes, and without an
+  // induced angle x = ageo - 0 = ageo exactly.
+  WingFlow fl[8];
+  flows(s, fl);
+  double m = 0;
+  for (std::size_t j = 0; j < f_.wings.size(); ++j) m = std::max(m, std::abs(fl[j].alpha));
+  max_alpha_out = m;
+  return wrench(s, fl);
+}
+
+Wrench EffectAero::wrench(const FlightState& s, const WingFlow* fl) const {
+  const double V = norm(s.v);
   const auto& mounts = g_.mounts();
   const Vec2 cg = g_.mass().cg;
   Vec2 F{0, 0};

@@ -18,6 +18,9 @@ class UnboundedAero final : public AeroForces {
   explicit UnboundedAero(const AeroForces& a) : a_(a) {}
   Wrench evaluate(const FlightState& s) const override { return a_.evaluate(s); }
   double max_alpha(const FlightState& s) const override { return a_.max_alpha(s); }
+  Wrench evaluate_and_max_alpha(const FlightState& s, double& m) const override {
+    return a_.evaluate_and_max_alpha(s, m);
+  }
   double alpha_limit() const override { return std::numeric_limits<double>::infinity(); }
   bool has_added_mass() const override { return a_.has_added_mass(); }
   AddedMass added_mass(const FlightState& s) const override { return a_.added_mass(s); }

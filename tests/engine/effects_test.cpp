@@ -437,3 +437,90 @@ TEST(EffectAero, MaxAlphaAndForcesAgreeWithTheFullLocalFlows) {
       }
   }
 }
+
+// One flow solve for the force and the angles: evaluate_and_max_alpha gives
+// exactly evaluate() and max_alpha() of the same state, for every kind of
+// correction (none, a wing's own induced angle, the other wings' wakes) and
+// at rest.
+TEST(EffectAero, ForceAndAnglesFromOneFlowSolveAreTheSeparateOnes) {
+  Rig s(training("t17-canard"));
+  for (int k = 0; k < 6; ++k) {
+    EffectValues v;
+    if (k == 1) v.pitch_damping = 1.0;
+    if (k == 2) v.finite_span = 1.0;
+    if (k == 3) v.downwash = 1.0;
+    if (k == 4) v.pitch_damping = v.ground_effect = 1.0;
+    if (k == 5) v.finite_span = v.downwash = v.fuselage_drag = 0.7;
+    const EffectAero e(s.mg, s.f, v);
+    for (double speed : {0.0, 4.0, 9.0})
+      for (double om : {-4.0, 0.0, 6.0})
+        for (double beta : {-0.6, 0.02, 0.25}) {
+          const FlightState st = level(speed, om, beta);
+          double m = -1;
+          const Wrench w = e.evaluate_and_max_alpha(st, m);
+          const Wrench w2 = e.evaluate(st);
+          EXPECT_EQ(w.force.x, w2.force.x) << "case " << k;
+          EXPECT_EQ(w.force.y, w2.force.y) << "case " << k;
+          EXPECT_EQ(w.moment, w2.moment) << "case " << k;
+          EXPECT_EQ(m, e.max_alpha(st)) << "case " << k << " speed " << speed;
+          if (speed > 0) EXPECT_GT(m, 0.0) << "case " << k;
+        }
+  }
+}
+
+namespace {
+// A model that answers the force and the angles separately (AeroForces'
+// default evaluate_and_max_alpha).
+class Separately final : public AeroForces {
+ public:
+  explicit Separately(const AeroForces& a) : a_(a) {}
+  Wrench evaluate(const FlightState& s) const override { return a_.evaluate(s); }
+  double max_alpha(const FlightState& s) const override { return a_.max_alpha(s); }
+  double alpha_limit() const override { return a_.alpha_limit(); }
+  bool has_added_mass() const override { return a_.has_added_mass(); }
+  AddedMass added_mass(const FlightState& s) const override { return a_.added_mass(s); }
+
+ private:
+  const AeroForces& a_;
+};
+}  // namespace
+
+// The simulator takes the force and the stall check's angles from one call
+// (and RK4 starts each step from the force at the previous step's end): the
+// flights are those of a model answering the two separately, bit for bit,
+// with both integrators, wind and added mass.
+TEST(EffectAero, SimulatorFliesTheSameFromOneFlowSolveAsFromTwo) {
+  Rig s(training("t17-canard"));
+  const RigidBody body{s.mg.mass().mass, s.mg.mass().inertia};
+  for (int k = 0; k < 4; ++k) {
+    EffectValues v;
+    if (k == 1) v.finite_span = 1.0;
+    if (k == 2) v.downwash = v.added_mass = 1.0;
+    if (k == 3) v.ground_effect = v.pitch_damping = 1.0;
+    const EffectAero e(s.mg, s.f, v);
+    const Separately two(e);
+    for (Integrator integ : {Integrator::Verlet, Integrator::RK4})
+      for (double wind : {0.0, -1.0}) {
+        SimOptions o;
+        o.integrator = integ;
+        o.wind = {wind, 0.0};
+        o.t_max = 3.0;
+        Launch l;
+        l.speed = 8;
+        l.climb_deg = 15;
+        l.height = 1.6;
+        l.pitch_rate_deg_s = -40;
+        const Flight a = simulate(e, body, l, o), b = simulate(two, body, l, o);
+        ASSERT_EQ(a.samples.size(), b.samples.size()) << "case " << k;
+        ASSERT_GT(a.samples.size(), 50u) << "case " << k;
+        for (std::size_t i = 0; i < a.samples.size(); ++i) {
+          ASSERT_EQ(a.samples[i].x, b.samples[i].x) << "case " << k << " sample " << i;
+          ASSERT_EQ(a.samples[i].y, b.samples[i].y) << "case " << k << " sample " << i;
+          ASSERT_EQ(a.samples[i].pitch, b.samples[i].pitch) << "case " << k << " sample " << i;
+        }
+        EXPECT_EQ(a.max_alpha, b.max_alpha) << "case " << k;
+        EXPECT_GT(a.max_alpha, 0.0) << "case " << k;
+        EXPECT_EQ(a.end, b.end) << "case " << k;
+      }
+  }
+}

@@ -108,6 +108,48 @@ TEST(Flight, TrajectoryConvergesAsTimeStepShrinks) {
   }
 }
 
+// The flight's largest wing angle (its stall check) is the wings' largest
+// angle along the trajectory. Verlet checks it where it evaluates the force,
+// each step's predicted state, whose velocity differs from the step's end by
+// O(h^2); recomputed independently at every recorded end of a step it agrees
+// to within the change of the angle over one step (the last step, cut at the
+// ground, is recorded at the contact point, not at its end).
+TEST(Flight, MaxAlphaIsTheWingsLargestAngleAlongTheFlight) {
+  const auto model = default_model();
+  int compared = 0;
+  for (const auto& [path, gl] : test::examples()) {
+    const MountedGlider mg = mount(gl, model);
+    const QuasiStaticAero qa(mg);
+    const RigidBody body{mg.mass().mass, mg.mass().inertia};
+    for (const Launch& l : standard_launches(1.5)) {
+      for (Integrator integ : {Integrator::Verlet, Integrator::RK4}) {
+        SimOptions o;
+        o.integrator = integ;
+        const Flight f = simulate(qa, body, l, o);
+        ASSERT_GT(f.samples.size(), 3u) << path;
+        double m = 0, step = 0, prev = 0;
+        for (std::size_t i = 1; i < f.samples.size(); ++i) {
+          const auto& x = f.samples[i];
+          FlightState st;
+          st.p = {x.x, x.y};
+          st.v = {x.vx, x.vy};
+          st.beta = x.pitch;
+          st.omega = x.omega;
+          const double a = qa.max_alpha(st);
+          if (i > 1) step = std::max(step, std::abs(a - prev));
+          prev = a;
+          m = std::max(m, a);
+        }
+        EXPECT_NEAR(f.max_alpha, m, step + 1e-6) << path << " launch " << l.speed << " m/s";
+        if (integ == Integrator::RK4 && f.end == FlightEnd::TimeLimit)
+          EXPECT_EQ(f.max_alpha, m) << path;  // RK4 checks every recorded state
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 10);
+}
+
 // A single wing without tail, CG behind the quarter chord: pitch-unstable. The
 // simulator must say so rather than report a distance as if it flew.
 TEST(Flight, TaillessGliderWithAftCgIsMarkedUnstable) {

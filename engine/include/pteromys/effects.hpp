@@ -244,6 +244,8 @@ class EffectAero final : public AeroForces {
   EffectAero(const MountedGlider& g, const GliderFeatures& f, const EffectValues& values, double height_origin = 0);
   Wrench evaluate(const FlightState& s) const override;
   double max_alpha(const FlightState& s) const override;
+  /// One pass of the wings' flows for both (the same values as the two calls).
+  Wrench evaluate_and_max_alpha(const FlightState& s, double& max_alpha_out) const override;
   double alpha_limit() const override { return g_.alpha_limit(); }
   bool has_added_mass() const override { return values_.added_mass != 0; }
   AddedMass added_mass(const FlightState& s) const override;
@@ -258,6 +260,8 @@ class EffectAero final : public AeroForces {
   /// no pass iterates they do not depend on the tables, which are skipped.
   void flows(const FlightState& s, WingFlow* out, bool coefs = true) const;
   double induced_solve(std::size_t j, const WingTable::SpeedWeights& sw, double c, double ageo, double x) const;
+  /// The wrench of state s from its wings' flows `fl` (computed by flows).
+  Wrench wrench(const FlightState& s, const WingFlow* fl) const;
   const MountedGlider& g_;
   const GliderFeatures& f_;
   EffectValues values_;

@@ -46,6 +46,16 @@ class AeroForces {
   virtual Wrench evaluate(const FlightState& s) const = 0;
   /// Largest |angle of attack| of any wing in state `s` (air-relative) [rad].
   virtual double max_alpha(const FlightState& s) const = 0;
+  /// evaluate(s) and max_alpha(s) of one state. The simulator's stall check
+  /// asks for the angles where it evaluates the force (Verlet: each step's
+  /// predicted state; RK4: each step's end, the next step's first force), so
+  /// a model whose angles cost as much as its forces (EffectAero with its
+  /// induced angles or wakes) computes them once. The default calls
+  /// max_alpha, then evaluate.
+  virtual Wrench evaluate_and_max_alpha(const FlightState& s, double& max_alpha_out) const {
+    max_alpha_out = max_alpha(s);
+    return evaluate(s);
+  }
   /// Model validity: a wing angle of attack beyond this means unstable flight [rad].
   virtual double alpha_limit() const = 0;
   /// Optional added mass (default none: the simulator then integrates eq. 4
@@ -127,7 +137,7 @@ struct Flight {
   std::string reason;        ///< why unstable, in words
   double distance = 0;       ///< horizontal distance from the launch point at ground contact (or at the end) [m]
   double flight_time = 0;    ///< [s]
-  double max_alpha = 0;      ///< largest |gamma| seen [rad]
+  double max_alpha = 0;      ///< largest wing |alpha| (AeroForces::max_alpha) where the force was evaluated [rad]
 };
 
 struct RigidBody {
