@@ -110,7 +110,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--plausible", "--profile-min-gliders",
-                                        "--profiled-candidates", "--step-alpha"};
+                                        "--profiled-candidates", "--step-alpha", "--leader-reached"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard",
@@ -155,6 +155,10 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--leader-start") && a.flag("--no-leader-start"))
     throw InputError("--leader-start and --no-leader-start contradict each other");
   o.leader_start = !a.flag("--no-leader-start");
+  if (a.has("--leader-reached")) {
+    o.leader_reached = a.number("--leader-reached", o.leader_reached);
+    if (!(o.leader_reached >= 0)) throw InputError("--leader-reached must not be negative");
+  }
   if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
     throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
   o.heldout_steps = !a.flag("--no-heldout-steps");
@@ -320,6 +324,9 @@ const bool registered_diagnose = register_command(
          "                          --carry-steps: the default, explicitly\n"
          "  --no-leader-start       keep the carried steps but not the leader's start (to\n"
          "                          measure the two apart: docs); --leader-start: the default\n"
+         "  --leader-reached F      no leader's start in a fold whose own linearised step fitted\n"
+         "                          the leader at F of its strength on all gliders or more\n"
+         "                          (default 0.5; 100: always started, as before: docs)\n"
          "  --no-heldout-steps      by default a candidate the held-out gliders confirm but whose\n"
          "                          gain on all gliders was under the screen is refitted from its\n"
          "                          step there before its likelihood-ratio test (docs); with this\n"

@@ -1096,7 +1096,53 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       }
       out[e] = settled(start, flights, free, &start_launches);
       mean_rate(out[e]);
-      if (theory_start) {
+      if (has_step) {
+        const auto& steps = (*profiled)[e];
+        const double give_up = kGiveUpFactor * out[e].sse;
+        FitOutcome p = settled(steps[0], flights, free, &warm, give_up);
+        // A step that overshoots (the linearisation of flights far from
+        // the noise: wind data, the full step to -0.91 m/s with the centre
+        // values settled at 14.8 cm against the fixed-coefficient 7.5 cm)
+        // is damped until one explains the flights better than the
+        // fixed-coefficient fit.
+        for (std::size_t i = 1; i < steps.size() && !(p.sse < out[e].sse); ++i) {
+          FitOutcome h = settled(steps[i], flights, free, &warm, give_up);
+          report("effect", label + ": " + effect_name(o.effects[e]) + " from " + fmt(kStepFractions[i], 2) +
+                               " of the linearised step (" +
+                               describe_parameters(o.effects[e], effect_values(h.model.effects, o.effects[e])) +
+                               "): RMSE " + cm(h.rmse()) + " (the " + (i == 1 ? "full" : "larger") + " step: " +
+                               cm(p.rmse()) + ")",
+                 false);
+          if (h.sse < p.sse) p = std::move(h);
+        }
+        joint_refit(p, flights, free);
+        report("effect", label + ": " + effect_name(o.effects[e]) + " from the linearised step with the centre values (" +
+                             describe_parameters(o.effects[e], effect_values(p.model.effects, o.effects[e])) +
+                             "): RMSE " + cm(p.rmse()) + (p.sse < out[e].sse ? " (kept)" : ""), false);
+        if (p.sse < out[e].sse) out[e] = std::move(p);
+      }
+      // (DiagnoseOptions::leader_reached) The leader's start is not made
+      // where the fold's own step already fitted the leader at that
+      // fraction of its strength on all gliders: where both were made they
+      // ended at the same RMSE, 1.4-1.5 cm (finite span at 1, 20 gliders,
+      // 30-45 points: steps 0.59-1.42 against 0.963-1.35 on all gliders;
+      // the start kept in three folds of seven, 0.01-0.05 from the step's
+      // strength), while it cost 100-300 s a fold, one thread. Steps that
+      // returned to 0 (finite span s41-g20 and s42, fold 2) still get it.
+      bool lead_reached = false;
+      if (to_lead && has_step) {
+        const auto v = effect_values(out[e].model.effects, o.effects[e]);
+        lead_reached = v.size() == lead_values.size();
+        for (std::size_t i = 0; lead_reached && i < v.size(); ++i)
+          lead_reached = v[i] * lead_values[i] > 0 && std::abs(v[i]) >= o.leader_reached * std::abs(lead_values[i]);
+        if (lead_reached)
+          report("effect", label + ": " + effect_name(o.effects[e]) + "'s linearised step here fitted " +
+                               describe_parameters(o.effects[e], v) + ", at least " + fmt(o.leader_reached, 2) +
+                               " of its strength on all gliders (" + describe_parameters(o.effects[e], lead_values) +
+                               "): not started there",
+                 false);
+      }
+      if (theory_start && !lead_reached) {
         // A theoretical-size start is reached the oracle's way (the
         // leader's start from the fit to all gliders, below): the strength
         // switched on in quarter steps with the launches and trims settled
@@ -1189,31 +1235,6 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
           report("effect", label + ": " + effect_name(o.effects[e]) + " " + how + ": RMSE " + cm(r.rmse()), false);
           theory = std::move(r);
         }
-      }
-      if (has_step) {
-        const auto& steps = (*profiled)[e];
-        const double give_up = kGiveUpFactor * out[e].sse;
-        FitOutcome p = settled(steps[0], flights, free, &warm, give_up);
-        // A step that overshoots (the linearisation of flights far from
-        // the noise: wind data, the full step to -0.91 m/s with the centre
-        // values settled at 14.8 cm against the fixed-coefficient 7.5 cm)
-        // is damped until one explains the flights better than the
-        // fixed-coefficient fit.
-        for (std::size_t i = 1; i < steps.size() && !(p.sse < out[e].sse); ++i) {
-          FitOutcome h = settled(steps[i], flights, free, &warm, give_up);
-          report("effect", label + ": " + effect_name(o.effects[e]) + " from " + fmt(kStepFractions[i], 2) +
-                               " of the linearised step (" +
-                               describe_parameters(o.effects[e], effect_values(h.model.effects, o.effects[e])) +
-                               "): RMSE " + cm(h.rmse()) + " (the " + (i == 1 ? "full" : "larger") + " step: " +
-                               cm(p.rmse()) + ")",
-                 false);
-          if (h.sse < p.sse) p = std::move(h);
-        }
-        joint_refit(p, flights, free);
-        report("effect", label + ": " + effect_name(o.effects[e]) + " from the linearised step with the centre values (" +
-                             describe_parameters(o.effects[e], effect_values(p.model.effects, o.effects[e])) +
-                             "): RMSE " + cm(p.rmse()) + (p.sse < out[e].sse ? " (kept)" : ""), false);
-        if (p.sse < out[e].sse) out[e] = std::move(p);
       }
       if (theory && theory->sse > kTheoryStartFactor * base.sse) {
         report("effect", label + ": " + effect_name(o.effects[e]) + " at " + size_name + ": RMSE " +
@@ -3238,6 +3259,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"profiled_candidates", o.profiled_candidates},
                   {"carry_steps", o.carry_steps},
                   {"leader_start", o.leader_start},
+                  {"leader_reached", o.leader_reached},
                   {"heldout_steps", o.heldout_steps},
                   {"theory_starts", o.theory_starts},
                   {"hold_theory", o.hold_theory},

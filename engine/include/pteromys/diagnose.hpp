@@ -207,6 +207,14 @@ struct DiagnoseOptions {
   /// so that the two can be measured apart (blind finite span s38:
   /// docs/diagnosis.md, *Carried steps*).
   bool leader_start = true;
+  /// The leader's start is not made in a fold whose own linearised step
+  /// already fitted the leader at this fraction of its strength on all
+  /// gliders or more (same sign): that fit has left the baseline's basin,
+  /// which the start is for, and where both were made they ended at the
+  /// same RMSE while the start cost 100-300 s a fold on 20 gliders
+  /// (docs/diagnosis.md, *Carried steps*). A large value (100) starts it
+  /// in every fold, as before 2026-12-01 (evening).
+  double leader_reached = 0.5;
   /// Held-out-led steps: a candidate the held-out gliders confirm (held-out
   /// shrink by the margin, its held-out chi-square test, the glider guard,
   /// a plausible fit) but that was not refitted from its linearised step on
