@@ -383,13 +383,14 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["launch_withhold"] is True and "withheld" not in camera_case[1]
     assert camera_case[1]["options"]["launch_rates_confirm"] is True
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["leader_reached"] == 0.5
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
                                                "--no-carry-steps", "--no-leader-start", "--no-bound-guard",
                                                "--no-heldout-steps",
                                                "--no-unstepped-refit", "--no-launch-withhold",
-                                               "--no-launch-rates-confirm"])
+                                               "--no-launch-rates-confirm", "--leader-reached", "100"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
@@ -402,6 +403,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert j["options"]["prefer_identifiable"] is True
     assert j["options"]["carry_steps"] is False
     assert j["options"]["leader_start"] is False
+    assert j["options"]["leader_reached"] == 100
     assert j["options"]["refit_unstepped"] is False
     # null data: nothing significant, so nothing to pass over
     assert "passed_over" not in j
@@ -556,6 +558,8 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--profiled-candidates", "-1"], "--profiled-candidates"),
     (["diagnose", "DS", "--json", "OUT", "--carry-steps", "--no-carry-steps"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--leader-start", "--no-leader-start"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--leader-reached", "-0.5"], "--leader-reached"),
+    (["diagnose", "DS", "--json", "OUT", "--leader-reached", "half"], "--leader-reached"),
     (["diagnose", "DS", "--json", "OUT", "--step-per-flight", "--no-step-per-flight"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--heldout-steps", "--no-heldout-steps"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--theory-starts", "--no-theory-starts"], "contradict"),

@@ -24,7 +24,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
              heldout_steps=True, escalate=False,
-             prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, theory_starts=False,
+             prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, leader_reached=0.5,
+             theory_starts=False,
              hold_theory=False, step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0,
              progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
@@ -72,10 +73,11 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     significant one that is not predicts the held-out gliders not
     significantly worse (paired over gliders), the verdict names the latter
     (result key ``passed_over``).
-    ``step_alpha``, ``carry_steps``, ``leader_start``, ``theory_starts``, ``hold_theory``,
+    ``step_alpha``, ``carry_steps``, ``leader_start``, ``leader_reached``, ``theory_starts``, ``hold_theory``,
     ``step_per_flight``, ``refit_unstepped``, ``oracle`` (e.g.
     ``"finite_span=1"``) and ``plausible`` (e.g. ``"camera=0.05:3"``) are
     the CLI's ``--step-alpha``, ``--carry-steps``/``--no-carry-steps``, ``--no-leader-start``,
+    ``--leader-reached``,
     ``--theory-starts``, ``--hold-theory``, ``--step-per-flight``,
     ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
     (docs/diagnosis.md, *Using it*).
@@ -96,7 +98,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 heldout_steps=bool(heldout_steps),
                 escalate=bool(escalate),
                 prefer_identifiable=bool(prefer_identifiable), step_alpha=step_alpha, carry_steps=bool(carry_steps),
-                leader_start=bool(leader_start),
+                leader_start=bool(leader_start), leader_reached=float(leader_reached),
                 theory_starts=bool(theory_starts), hold_theory=bool(hold_theory),
                 step_per_flight=bool(step_per_flight), refit_unstepped=bool(refit_unstepped), oracle=oracle,
                 plausible=plausible, threads=threads)
