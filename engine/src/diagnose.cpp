@@ -1127,7 +1127,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       // ended at the same RMSE, 1.4-1.5 cm (finite span at 1, 20 gliders,
       // 30-45 points: steps 0.59-1.42 against 0.963-1.35 on all gliders;
       // the start kept in three folds of seven, 0.01-0.05 from the step's
-      // strength), while it cost 100-300 s a fold, one thread. Steps that
+      // strength), while it cost 60-200 s a fold. Steps that
       // returned to 0 (finite span s41-g20 and s42, fold 2) still get it.
       bool lead_reached = false;
       if (to_lead && has_step) {

@@ -211,7 +211,7 @@ struct DiagnoseOptions {
   /// already fitted the leader at this fraction of its strength on all
   /// gliders or more (same sign): that fit has left the baseline's basin,
   /// which the start is for, and where both were made they ended at the
-  /// same RMSE while the start cost 100-300 s a fold on 20 gliders
+  /// same RMSE while the start cost 60-200 s a fold on 20 gliders
   /// (docs/diagnosis.md, *Carried steps*). A large value (100) starts it
   /// in every fold, as before 2026-12-01 (evening).
   double leader_reached = 0.5;
