@@ -95,7 +95,10 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("prefer_identifiable")) o.prefer_identifiable = kw["prefer_identifiable"].cast<bool>();
   if (kw.contains("carry_steps")) o.carry_steps = kw["carry_steps"].cast<bool>();
   if (kw.contains("leader_start")) o.leader_start = kw["leader_start"].cast<bool>();
-  if (kw.contains("leader_reached")) o.leader_reached = kw["leader_reached"].cast<double>();
+  if (kw.contains("leader_reached")) {
+    o.leader_reached = num("leader_reached", o.leader_reached);
+    if (!(o.leader_reached >= 0)) throw InputError("leader_reached must be a number >= 0");
+  }
   if (kw.contains("heldout_steps")) o.heldout_steps = kw["heldout_steps"].cast<bool>();
   if (kw.contains("theory_starts")) o.theory_starts = kw["theory_starts"].cast<bool>();
   if (kw.contains("hold_theory")) o.hold_theory = kw["hold_theory"].cast<bool>();

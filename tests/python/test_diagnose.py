@@ -616,6 +616,14 @@ def test_python_call_accepts_every_option_the_engine_reads():
     assert read - params == set(), "read by the binding, not accepted by pteromys.diagnose"
 
 
+@pytest.mark.parametrize("value", [-0.5, float("nan")])
+def test_python_call_refuses_a_bad_leader_reached(tmp_path, value):
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    with pytest.raises(Exception, match="leader_reached must be a number >= 0"):
+        pteromys.diagnose(ds, folds=3, leader_reached=value)
+
+
 def test_python_call_refuses_a_bad_oracle(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
