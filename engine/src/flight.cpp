@@ -166,8 +166,8 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
         r.omega = a.omega + c * k.beta;  // k.beta carries the angular acceleration
         return r;
       };
-      auto rate = [&](const FlightState& a) {
-        const Deriv dd = f(a);
+      // The rate of state a whose derivative is dd.
+      auto rate_of = [](const FlightState& a, const Deriv& dd) {
         FlightState k;
         k.v = a.v;
         k.p = dd.a;
@@ -175,14 +175,11 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
         k.beta = dd.alpha_dd;
         return k;
       };
+      auto rate = [&](const FlightState& a) { return rate_of(a, f(a)); };
       // k1 from d: the force at s, computed before the loop or, with the
       // stall check, at the end of the step before (the same call on the
       // same state as rate(s)).
-      FlightState k1;
-      k1.v = s.v;
-      k1.p = d.a;
-      k1.omega = s.omega;
-      k1.beta = d.alpha_dd;
+      const FlightState k1 = rate_of(s, d);
       const FlightState k2 = rate(add(s, k1, h / 2));
       const FlightState k3 = rate(add(s, k2, h / 2));
       const FlightState k4 = rate(add(s, k3, h));
