@@ -107,7 +107,7 @@ def fields(e, options, r=None):
 
 def likelihood_reference(r):
     """The candidate the engine's likelihood ratios are measured from
-    (likelihood_reference, since 2026-12-02): fitted on all gliders with
+    (likelihood_reference, since 2026-11-30): fitted on all gliders with
     every parameter at 0 (not per-flight launch rotation) and a fit better
     than the baseline's by more than 0.2 chi-square units (the sum of
     squares is the RMSE squared times the dataset's points; without the
@@ -135,7 +135,7 @@ def likelihood_reference(r):
 def margin(f):
     """The shrink an effect must reach (shrink_margin in the engine): the
     margin, or for per-flight launch rotation confirmed by its rates
-    (launch_rates_confirm, since 2026-12-01) just above zero."""
+    (launch_rates_confirm, since 2026-11-30) just above zero."""
     return 0.0 if f["rates_confirm"] and f["rate_test"] and f["name"] == "launch_rotation" else f["margin"]
 
 
@@ -149,7 +149,7 @@ def built(f):
 
 def rates_confirm(f):
     """As built, with per-flight launch rotation confirmed by its rates
-    (launch_rates_confirm, on by default since 2026-12-01): its held-out
+    (launch_rates_confirm, on by default since 2026-11-30): its held-out
     rates sharing a direction at alpha / m and any held-out shrink above
     zero stand for the margin. Replays results of binaries from before it."""
     return built(dict(f, rates_confirm=True))
@@ -202,7 +202,7 @@ def bound_guard(f):
 def reference_rule(f):
     """As built, with the likelihood ratios measured from a candidate's fit
     at 0 that beats the baseline's (likelihood_reference in the engine,
-    since 2026-12-02): that candidate's own ratio is then 0 and it fails the
+    since 2026-11-30): that candidate's own ratio is then 0 and it fails the
     training test. The others' ratios would shrink too, which this replay
     leaves out (it can only under-count what the rule takes back)."""
     return built(dict(f, lr_pass=False)) if f["likelihood_reference"] else built(f)
@@ -215,7 +215,7 @@ SESSION_WIDE = ("wind", "camera")
 
 def launch_withheld(r):
     """The launch withhold (launch_withheld in the engine, on by default
-    since 2026-12-01) on a stored result: its verdict names wind or the
+    since 2026-11-30) on a stored result: its verdict names wind or the
     camera, and launch rotation passed its likelihood-ratio test, is not
     significant and (per-flight rates) its rates' mean has p under alpha.
     A result of a binary with the withhold already carries it in
@@ -235,7 +235,7 @@ def launch_withheld(r):
 
 
 def launch_verdict(r):
-    """The verdict of a stored result under the launch rules of 2026-12-01
+    """The verdict of a stored result under the launch rules of 2026-11-30
     (launch_rates_confirm and launch_withhold, as in the engine): launch
     rotation significant by its rates takes the verdict from wind, the
     camera, `unexplained` or `none` (no other effect significant: none of
@@ -353,7 +353,7 @@ def main(argv=None):
         print("  withheld: %s [%s]: %s" % (c[1], c[4].get("bench_commit", "?"),
                                           c[4].get("withheld", {}).get("effect", c[4]["verdict"])))
     # Both launch rules (launch_verdict): every verdict that changes.
-    print("\nlaunch rules of 2026-12-01 (rates confirm launch rotation; the withhold), verdicts that change:")
+    print("\nlaunch rules of 2026-11-30 (rates confirm launch rotation; the withhold), verdicts that change:")
     changed = [(c, launch_verdict(c[4])) for c in cases]
     changed = [(c, v) for c, v in changed if v != c[4].get("verdict")]
     for c, v in changed:

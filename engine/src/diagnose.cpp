@@ -611,7 +611,7 @@ std::string withheld_sentence(const std::vector<EffectResult>& effects, const st
   const std::string why =
       " A launcher's habitual rotation at release is taken up by each held-out flight's own rate, so launch "
       "rotation gains little there, while a correction applied alike to every flight carries the habit over to the "
-      "held-out gliders: on the blind benchmark to 2026-12-01 wind or the camera was so named on 4 of 4 "
+      "held-out gliders: on the blind benchmark to 2026-11-30 wind or the camera was so named on 4 of 4 "
       "launch-rotation datasets where launch rotation fitted this way, and on no dataset of another effect "
       "(docs/diagnosis.md, The launch withhold).";
   const std::string cause = "left the hand without pitching, " + withheld +

@@ -485,7 +485,7 @@ def test_rule_replay_counts_the_verdicts_the_launch_withhold_takes_back(tmp_path
     assert "withheld: launch_rotation-1-s1 [?]: wind" in out
     assert "withheld: launch_rotation-1-s3 [?]: camera" in out
     assert "launch_rotation-1-s2 [" not in out.split("by truth:")[1]
-    rules = out.split("launch rules of 2026-12-01")[1]
+    rules = out.split("launch rules of 2026-11-30")[1]
     assert "launch_rotation-1-s1 [?]: wind -> unexplained\n" in rules
     assert "launch_rotation-1-s5 [?]: wind -> launch_rotation (right)" in rules
     assert "launch_rotation-1-s6 [?]: unexplained -> launch_rotation (right)" in rules
