@@ -131,9 +131,23 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
     return fs;
   };
   out.samples.push_back(sample(s));
-  Deriv d = f(s);
+  // The launch state is checked as every step's is: a launch whose wings
+  // start outside the model's range (the nose pointed far off the path) is
+  // not flown on a model that does not hold there.
+  double am0 = 0;
+  Deriv d = f(s, &am0);
   const double limit = aero.alpha_limit();
   const double max_pitch = deg2rad(opt.max_pitch_deg);
+  out.max_alpha = am0;
+  if (am0 > limit) {
+    out.stable = false;
+    out.end = FlightEnd::Unstable;
+    out.reason = "angle of attack at launch is " + fmt_number(rad2deg(am0), 3) + " deg, outside the model's range of +-" +
+                 fmt_number(rad2deg(limit), 3) + " deg (the nose points too far off the launch path)";
+    out.flight_time = 0;
+    out.distance = 0;
+    return out;
+  }
   const long nsteps = static_cast<long>(std::ceil(opt.t_max / h - 1e-9));
   for (long step = 1; step <= nsteps; ++step) {
     FlightState n = s;

@@ -128,7 +128,7 @@ TEST(Flight, MaxAlphaIsTheWingsLargestAngleAlongTheFlight) {
         const Flight f = simulate(qa, body, l, o);
         ASSERT_GT(f.samples.size(), 3u) << path;
         double m = 0, step = 0, prev = 0;
-        for (std::size_t i = 1; i < f.samples.size(); ++i) {
+        for (std::size_t i = 0; i < f.samples.size(); ++i) {  // the launch state included
           const auto& x = f.samples[i];
           FlightState st;
           st.p = {x.x, x.y};
@@ -148,6 +148,42 @@ TEST(Flight, MaxAlphaIsTheWingsLargestAngleAlongTheFlight) {
     }
   }
   EXPECT_GT(compared, 10);
+}
+
+// A launch whose nose points 60 deg above its path starts with the wings
+// near 60 deg (the body's angle of attack plus mounting angles of a few
+// degrees), outside the model's +-40 deg: it is not flown, and the reason
+// says it was the launch. 20 deg above the path is inside and flies, with
+// the launch's angle counted in max_alpha.
+TEST(Flight, ALaunchOutsideTheModelsRangeIsNotFlown) {
+  const auto model = default_model();
+  const Glider gl = load_glider(test::source_path("examples/gliders/rectangular.glider.json"));
+  const MountedGlider mg = mount(gl, model);
+  const QuasiStaticAero qa(mg);
+  const RigidBody body{mg.mass().mass, mg.mass().inertia};
+  for (Integrator integ : {Integrator::Verlet, Integrator::RK4}) {
+    SimOptions o;
+    o.integrator = integ;
+    Launch l;
+    l.speed = 7;
+    l.climb_deg = 5;
+    l.pitch_from_path = false;
+    l.pitch_deg = 65;
+    const Flight f = simulate(qa, body, l, o);
+    EXPECT_FALSE(f.stable);
+    EXPECT_EQ(f.end, FlightEnd::Unstable);
+    EXPECT_EQ(f.samples.size(), 1u);
+    EXPECT_EQ(f.flight_time, 0.0);
+    EXPECT_NE(f.reason.find("at launch"), std::string::npos) << f.reason;
+    EXPECT_GT(f.max_alpha, deg2rad(55.0));
+    EXPECT_EQ(f.max_alpha, qa.max_alpha(launch_state(l)));
+
+    l.pitch_deg = 25;
+    const Flight g = simulate(qa, body, l, o);
+    ASSERT_GT(g.samples.size(), 3u) << g.reason;
+    EXPECT_GE(g.max_alpha, qa.max_alpha(launch_state(l)));
+    EXPECT_GT(g.max_alpha, deg2rad(15.0));
+  }
 }
 
 // A single wing without tail, CG behind the quarter chord: pitch-unstable. The
