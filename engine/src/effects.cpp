@@ -352,6 +352,11 @@ std::array<double, 3> horseshoe_velocity(const V3& p, const V3& a, const V3& b, 
 
 // -------------------------------------------------------------- EffectAero
 
+namespace {
+// |v| < 1e-9 m/s (no air speed: no air force), without the square root.
+inline bool at_rest(Vec2 v) { return v.x * v.x + v.y * v.y < 1e-18; }
+}  // namespace
+
 EffectAero::EffectAero(const MountedGlider& g, const GliderFeatures& f, const EffectValues& v, double height_origin)
     : g_(g), f_(f), values_(v), height_origin_(height_origin), base_(g) {
   if (f.wings.size() != g.aero().wing_count()) throw InputError("glider features do not match the mounted glider");
@@ -395,12 +400,10 @@ double EffectAero::induced_solve(std::size_t j, const WingTable::SpeedWeights& s
   return x;
 }
 
-void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
+void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs, double cb, double sb) const {
   const std::size_t n = f_.wings.size();
-  const double cb = std::cos(s.beta), sb = std::sin(s.beta);
   // Air velocity relative to the glider at the CG, glider frame.
   const Vec2 a{-(cb * s.v.x + sb * s.v.y), -(-sb * s.v.x + cb * s.v.y)};
-  const double V = norm(a);
   const auto& mounts = g_.mounts();
   Vec2 aj[8];
   Vec2 w[8];
@@ -428,6 +431,7 @@ void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
   // (GliderFeatures::wake_unit), scaled in each pass by V_i C_L,i.
   Vec2 unit[8][8];
   if (wakes) {
+    const double V = norm(a);  // only the wakes' angle needs it: each wing's speed is its own
     const double psi = V > 0 ? std::atan2(a.y, -a.x) : 0.0;
     for (std::size_t i = 0; i < nn; ++i)
       for (std::size_t j = 0; j < nn; ++j) unit[i][j] = j == i ? Vec2{0, 0} : f_.wake_unit(i, j, psi);
@@ -491,21 +495,22 @@ void EffectAero::flows(const FlightState& s, WingFlow* out, bool coefs) const {
 
 std::vector<WingFlow> EffectAero::wing_flows(const FlightState& s) const {
   std::vector<WingFlow> out(f_.wings.size());
-  flows(s, out.data());
+  flows(s, out.data(), true, std::cos(s.beta), std::sin(s.beta));
   return out;
 }
 
 Wrench EffectAero::evaluate(const FlightState& s) const {
   if (values_.aerodynamic_zero()) return base_.evaluate(s);
-  if (norm(s.v) < 1e-9) return {};
+  if (at_rest(s.v)) return {};
   WingFlow fl[8];
-  flows(s, fl);
-  return wrench(s, fl);
+  const double cb = std::cos(s.beta), sb = std::sin(s.beta);
+  flows(s, fl, true, cb, sb);
+  return wrench(s, fl, cb, sb);
 }
 
 Wrench EffectAero::evaluate_and_max_alpha(const FlightState& s, double& max_alpha_out) const {
   if (values_.aerodynamic_zero()) return base_.evaluate_and_max_alpha(s, max_alpha_out);
-  if (norm(s.v) < 1e-9) {
+  if (at_rest(s.v)) {
     max_alpha_out = base_.max_alpha(s);
     return {};
   }
@@ -513,23 +518,30 @@ Wrench EffectAero::evaluate_and_max_alpha(const FlightState& s, double& max_alph
   // them (max_alpha): the same induced solve and wake passes, and without an
   // induced angle x = ageo - 0 = ageo exactly.
   WingFlow fl[8];
-  flows(s, fl);
+  const double cb = std::cos(s.beta), sb = std::sin(s.beta);
+  flows(s, fl, true, cb, sb);
   double m = 0;
   for (std::size_t j = 0; j < f_.wings.size(); ++j) m = std::max(m, std::abs(fl[j].alpha));
   max_alpha_out = m;
-  return wrench(s, fl);
+  return wrench(s, fl, cb, sb);
 }
 
-Wrench EffectAero::wrench(const FlightState& s, const WingFlow* fl) const {
-  const double V = norm(s.v);
+Wrench EffectAero::wrench(const FlightState& s, const WingFlow* fl, double cb, double sb) const {
   const auto& mounts = g_.mounts();
   const Vec2 cg = g_.mass().cg;
   Vec2 F{0, 0};
   double T = 0;
+  // Wings that see the same flow angle (no induced angle or wakes, no pitch
+  // damping) share its cosine and sine.
+  double gamma_prev = 0, cg_ = 1, sg = 0;
   for (std::size_t j = 0; j < f_.wings.size(); ++j) {
     const WingCoefs& c = fl[j].coefs;  // the table at (speed, alpha), looked up by flows
     const double q = 0.5 * rho_ * fl[j].speed * fl[j].speed;
-    const double cg_ = std::cos(fl[j].gamma), sg = std::sin(fl[j].gamma);
+    if (j == 0 || fl[j].gamma != gamma_prev) {
+      gamma_prev = fl[j].gamma;
+      cg_ = std::cos(gamma_prev);
+      sg = std::sin(gamma_prev);
+    }
     // Drag along the local air velocity (-cos, sin), lift perpendicular (sin, cos).
     const Vec2 Fj{q * (-c.drag * cg_ + c.lift * sg), q * (c.drag * sg + c.lift * cg_)};
     const Vec2 arm = Vec2{mounts[j].x_m, mounts[j].y_m} - cg;
@@ -537,7 +549,7 @@ Wrench EffectAero::wrench(const FlightState& s, const WingFlow* fl) const {
     F = F + Fj;
   }
   if (values_.fuselage_drag != 0 && f_.fuselage_area > 0 && f_.fuselage_length > 0) {
-    const double cb = std::cos(s.beta), sb = std::sin(s.beta);
+    const double V = norm(s.v);
     const Vec2 a{-(cb * s.v.x + sb * s.v.y), -(-sb * s.v.x + cb * s.v.y)};
     const double re = rho_ * V * f_.fuselage_length / mu_;
     const double d = values_.fuselage_drag * 0.5 * rho_ * V * V * 2 * f_.fuselage_area * 1.328 / std::sqrt(re);
@@ -545,14 +557,14 @@ Wrench EffectAero::wrench(const FlightState& s, const WingFlow* fl) const {
     T += cross(f_.fuselage_centroid, Ff);
     F = F + Ff;
   }
-  return {rotate(F, s.beta), T};
+  return {{cb * F.x - sb * F.y, sb * F.x + cb * F.y}, T};  // rotate(F, s.beta)
 }
 
 double EffectAero::max_alpha(const FlightState& s) const {
   if (values_.aerodynamic_zero()) return base_.max_alpha(s);
-  if (norm(s.v) < 1e-9) return base_.max_alpha(s);
+  if (at_rest(s.v)) return base_.max_alpha(s);
   WingFlow fl[8];
-  flows(s, fl, false);
+  flows(s, fl, false, std::cos(s.beta), std::sin(s.beta));
   double m = 0;
   for (std::size_t j = 0; j < f_.wings.size(); ++j) m = std::max(m, std::abs(fl[j].alpha));
   return m;
@@ -562,12 +574,13 @@ AddedMass EffectAero::added_mass(const FlightState& s) const {
   AddedMass am;
   if (values_.added_mass == 0) return am;
   const auto& mounts = g_.mounts();
+  const double cb = std::cos(s.beta), sb = std::sin(s.beta);  // rotate(., s.beta), once for every wing
   for (std::size_t j = 0; j < f_.wings.size(); ++j) {
     const auto& wf = f_.wings[j];
     const double ma = values_.added_mass * rho_ * wf.apparent_mass;
     const double ia = values_.added_mass * rho_ * wf.apparent_inertia;
     const Vec2 n = rotate({0.0, 1.0}, s.beta + deg2rad(mounts[j].angle_deg));
-    const Vec2 r = rotate(wf.mid_chord, s.beta);
+    const Vec2 r{cb * wf.mid_chord.x - sb * wf.mid_chord.y, sb * wf.mid_chord.x + cb * wf.mid_chord.y};
     const double J[3] = {n.x, n.y, cross(r, n)};
     const double zn_v = -n.y * s.v.x + n.x * s.v.y;  // (z x n) . v
     for (int a = 0; a < 3; ++a) {

@@ -59,6 +59,7 @@ Track simulate_track(const AeroForces& aero, const RigidBody& body, const Launch
   if (!(h > 0)) throw InputError("time step must be positive");
   SimOptions so = opt.sim;
   so.record_every = 1;
+  so.sample_air = false;  // filled below at the samples the tracked points fall between
   so.t_max = std::max(times.back() - p.t, 0.0) + 2 * h;
   if (opt.continue_outside_range) so.max_pitch_deg = 1e12;
   FlightState s0;
@@ -88,7 +89,9 @@ Track simulate_track(const AeroForces& aero, const RigidBody& body, const Launch
     FlightSample st;
     if (k + 1 < S.size()) {
       // Cubic Hermite interpolation of position with the velocities at both ends.
-      const FlightSample &a = S[k], &b = S[k + 1];
+      FlightSample a = S[k], b = S[k + 1];
+      fill_air(a, so.wind);
+      fill_air(b, so.wind);
       const double dt = b.t - a.t;
       const double s = dt > 0 ? std::clamp((tau - a.t) / dt, 0.0, 1.0) : 0.0;
       const double s2 = s * s, s3 = s2 * s;
@@ -99,6 +102,7 @@ Track simulate_track(const AeroForces& aero, const RigidBody& body, const Launch
     } else {
       // Past the end of the simulation: ballistic extrapolation from the last state.
       st = S.back();
+      fill_air(st, so.wind);
       const double d = tau - st.t;
       st.t = tau;
       st.x += st.vx * d;

@@ -1,6 +1,7 @@
 #include "pteromys/flight.hpp"
 #include "pteromys/text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -60,6 +61,14 @@ struct Integrand {
 double path_angle(const FlightState& s) { return -std::atan2(s.v.y, s.v.x); }
 double angle_of_attack(const FlightState& s) { return wrap(path_angle(s) + s.beta); }
 
+void fill_air(FlightSample& fs, Vec2 wind) {
+  FlightState air;
+  air.v = Vec2{fs.vx, fs.vy} - wind;
+  air.beta = fs.pitch;
+  fs.speed = norm(air.v);
+  fs.alpha = angle_of_attack(air);
+}
+
 Wrench QuasiStaticAero::evaluate(const FlightState& s) const {
   const double V = norm(s.v);
   if (V < 1e-9) return {};
@@ -116,18 +125,15 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
   Flight out;
   FlightState s = start;
   auto sample = [&](const FlightState& st) {
-    FlightState air = st;
-    air.v = st.v - opt.wind;
     FlightSample fs;
     fs.t = st.t;
     fs.x = st.p.x;
     fs.y = st.p.y;
     fs.pitch = st.beta;
-    fs.speed = norm(air.v);
-    fs.alpha = angle_of_attack(air);
     fs.omega = st.omega;
     fs.vx = st.v.x;
     fs.vy = st.v.y;
+    if (opt.sample_air) fill_air(fs, opt.wind);
     return fs;
   };
   out.samples.push_back(sample(s));
@@ -149,6 +155,9 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
     return out;
   }
   const long nsteps = static_cast<long>(std::ceil(opt.t_max / h - 1e-9));
+  // Room for every recorded step of a short flight (a tracked flight's
+  // simulation records all its few hundred steps) without regrowing.
+  out.samples.reserve(static_cast<std::size_t>(std::min(nsteps / every + 2, 4096L)));
   for (long step = 1; step <= nsteps; ++step) {
     FlightState n = s;
     double am = 0;  // the wings' largest |alpha| in this step (the stall check)

@@ -56,7 +56,10 @@ TEST(SimulateTrack, MatchesTheEngineSimulationAtStepTimes) {
   // Reference: the engine's own simulate() of the same initial state,
   // recorded every step. At times on the step grid the Hermite interpolation
   // returns the step values, so both agree to rounding (1e-9 m), whatever the
-  // height offset (the quasi-static model does not depend on height).
+  // height offset (the quasi-static model does not depend on height). The
+  // states' air speed and angle of attack too, which simulate_track fills
+  // only where the tracked points fall (SimOptions::sample_air): in still
+  // air and in a wind, whose air-relative velocity they must use.
   Rig s("t01-rectangular");
   const QuasiStaticAero qa(s.mg);
   LaunchParams p = some_launch();
@@ -66,23 +69,32 @@ TEST(SimulateTrack, MatchesTheEngineSimulationAtStepTimes) {
   l.pitch_from_path = false;
   l.pitch_deg = rad2deg(p.pitch);
   l.height = p.y;
-  SimOptions so;
-  so.t_max = 0.7;
-  const Flight f = simulate(qa, s.body, l, so);
-  std::vector<double> times;
-  std::vector<Vec2> ref;
-  for (std::size_t k = 0; k < f.samples.size(); k += 25) {
-    times.push_back(p.t + f.samples[k].t);
-    ref.push_back({p.x + f.samples[k].x, f.samples[k].y});
+  for (const Vec2 wind : {Vec2{0, 0}, Vec2{-1.5, 0.4}}) {
+    SimOptions so;
+    so.t_max = 0.7;
+    so.wind = wind;
+    const Flight f = simulate(qa, s.body, l, so);
+    std::vector<double> times;
+    std::vector<FlightSample> ref;
+    for (std::size_t k = 0; k < f.samples.size(); k += 25) {
+      times.push_back(p.t + f.samples[k].t);
+      ref.push_back(f.samples[k]);
+    }
+    TrackOptions to;
+    to.sim.wind = wind;
+    const Track tr = simulate_track(qa, s.body, p, times, to);
+    ASSERT_EQ(tr.positions.size(), ref.size());
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      EXPECT_NEAR(tr.positions[i].x, p.x + ref[i].x, 1e-9) << i;
+      EXPECT_NEAR(tr.positions[i].y, ref[i].y, 1e-9) << i;
+      EXPECT_NEAR(tr.states[i].speed, ref[i].speed, 1e-9) << i;
+      EXPECT_NEAR(tr.states[i].alpha, ref[i].alpha, 1e-9) << i;
+      // Independently: the air speed is |v - wind|.
+      EXPECT_NEAR(tr.states[i].speed, std::hypot(ref[i].vx - wind.x, ref[i].vy - wind.y), 1e-9) << i;
+    }
+    EXPECT_FALSE(tr.ended_early);
+    EXPECT_FALSE(tr.left_model_range);
   }
-  const Track tr = simulate_track(qa, s.body, p, times);
-  ASSERT_EQ(tr.positions.size(), ref.size());
-  for (std::size_t i = 0; i < ref.size(); ++i) {
-    EXPECT_NEAR(tr.positions[i].x, ref[i].x, 1e-9) << i;
-    EXPECT_NEAR(tr.positions[i].y, ref[i].y, 1e-9) << i;
-  }
-  EXPECT_FALSE(tr.ended_early);
-  EXPECT_FALSE(tr.left_model_range);
 }
 
 TEST(SimulateTrack, BallisticMotionIsExactBetweenSteps) {

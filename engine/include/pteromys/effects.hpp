@@ -258,10 +258,13 @@ class EffectAero final : public AeroForces {
  private:
   /// `coefs` false: only speed, alpha and gamma are wanted (max_alpha); when
   /// no pass iterates they do not depend on the tables, which are skipped.
-  void flows(const FlightState& s, WingFlow* out, bool coefs = true) const;
+  /// `cb`, `sb`: cos and sin of s.beta (computed once a force evaluation and
+  /// shared with wrench: the same values as computing them in each).
+  void flows(const FlightState& s, WingFlow* out, bool coefs, double cb, double sb) const;
   double induced_solve(std::size_t j, const WingTable::SpeedWeights& sw, double c, double ageo, double x) const;
-  /// The wrench of state s from its wings' flows `fl` (computed by flows).
-  Wrench wrench(const FlightState& s, const WingFlow* fl) const;
+  /// The wrench of state s from its wings' flows `fl` (computed by flows),
+  /// with cb, sb as there.
+  Wrench wrench(const FlightState& s, const WingFlow* fl, double cb, double sb) const;
   const MountedGlider& g_;
   const GliderFeatures& f_;
   EffectValues values_;

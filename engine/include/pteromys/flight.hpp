@@ -116,6 +116,11 @@ struct SimOptions {
   int record_every = 1;       ///< keep every k-th step in the trajectory (and the last)
   Vec2 wind;                  ///< steady wind, world frame [m/s]
   double max_pitch_deg = 90.0;  ///< |pitch| beyond this counts as a flip
+  /// Fill every sample's `speed` and `alpha`. false: they are left 0 for a
+  /// caller that needs them at a few samples only (simulate_track: a
+  /// flight's tracked points among its hundreds of steps), which fills
+  /// those with fill_air and the same wind: the same values.
+  bool sample_air = true;
 };
 
 struct FlightSample {
@@ -156,5 +161,9 @@ Flight simulate_from(const AeroForces& aero, const RigidBody& body, const Flight
 
 /// Initial state of a launch.
 FlightState launch_state(const Launch& launch);
+
+/// Sets s.speed and s.alpha from its velocity and pitch in steady `wind`, as
+/// the simulator does for the samples it records.
+void fill_air(FlightSample& s, Vec2 wind);
 
 }  // namespace pteromys
