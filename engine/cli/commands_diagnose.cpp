@@ -117,7 +117,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--no-launch-withhold", "--no-launch-rates-confirm",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--leader-start", "--no-leader-start",
-                             "--heldout-steps", "--no-heldout-steps", "--theory-starts", "--no-theory-starts",
+                             "--heldout-steps", "--no-heldout-steps", "--heldout-fold-start", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight",
                              "--no-unstepped-refit"});
@@ -162,6 +162,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
     throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
   o.heldout_steps = !a.flag("--no-heldout-steps");
+  o.heldout_fold_start = a.flag("--heldout-fold-start");
   if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
     throw InputError("--theory-starts and --no-theory-starts contradict each other");
   o.theory_starts = a.flag("--theory-starts");
@@ -331,6 +332,8 @@ const bool registered_diagnose = register_command(
          "                          gain on all gliders was under the screen is refitted from its\n"
          "                          step there before its likelihood-ratio test (docs); with this\n"
          "                          option it is not; --heldout-steps: the default, explicitly\n"
+         "  --heldout-fold-start    such a refit also starts at the mean of the folds' fitted\n"
+         "                          strengths, switched on in steps (experimental: docs)\n"
          "  --theory-starts         every aerodynamic correction also starts at its theoretical\n"
          "                          size (strength 1, reached in quarter steps) with the centre\n"
          "                          values refitted with it (experimental: docs);\n"

@@ -1023,6 +1023,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // (below): -1 outside the folds' first fits.
   int lead_effect = -1;
   std::vector<double> lead_values;
+  // (heldout_fold_start) lead_values are the folds' mean strength, reached
+  // from the baseline in steps (there are no launches fitted at them).
+  bool lead_from_base = false;
   std::map<int, LaunchParams> lead_launches;  // the leader's fit to all gliders: each flight's launch
   std::vector<double> lead_trim;              // and each glider's trim
   auto fit_effects = [&](const FitOutcome& base, const std::vector<int>& flights, const std::string& label,
@@ -1056,7 +1059,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       const bool to_lead = ramp_possible && !o.theory_starts && e == lead_effect;
       const bool theory_start = (o.theory_starts && ramp_possible) || to_lead;
       const bool has_step = profiled && !(*profiled)[e].empty();  // a linearised step of its own in this fit
-      const std::string size_name = to_lead ? "its strength on all gliders" : "its theoretical size";
+      const std::string size_name = !to_lead          ? "its theoretical size"
+                                    : lead_from_base ? "its folds' mean strength"
+                                                     : "its strength on all gliders";
       std::optional<FitOutcome> theory;
       // Start where a launch-only refit explains the flights best: at zero
       // (the baseline) or at one of the effect's trial values.
@@ -1138,7 +1143,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         if (lead_reached)
           report("effect", label + ": " + effect_name(o.effects[e]) + "'s linearised step here fitted " +
                                describe_parameters(o.effects[e], v) + ", at least " + fmt(o.leader_reached, 2) +
-                               " of its strength on all gliders (" + describe_parameters(o.effects[e], lead_values) +
+                               " of " + size_name + " (" + describe_parameters(o.effects[e], lead_values) +
                                "): not started there",
                  false);
       }
@@ -1160,9 +1165,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         const double too_far = kTheoryStartFactor * base.sse;
         FitOutcome r = base;
         std::string how;
-        bool ramp = !to_lead;
+        bool ramp = !to_lead || lead_from_base;
         bool step_instead = false;  // the leader's start too far, its linearised step its start instead
-        if (to_lead) {
+        if (to_lead && !lead_from_base) {
           // The leader's start first takes the launches and trims of the
           // fit to all gliders, which has the fold's training flights at the
           // leader's strength already, with the fold's centre values: one
@@ -2257,13 +2262,29 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   const bool step_refit_possible = o.full_fit && o.profile && o.polish <= 0 &&
                                    centre_count(base_full.model.coefficients) > 0 &&
                                    profiled_on(gliders_of(all_flights));
-  auto step_refit = [&](int e, const std::string& label, const std::string& why) {
+  // `fold_start` (DiagnoseOptions::heldout_fold_start): also started at the
+  // mean of its folds' strengths, switched on from the baseline in steps.
+  auto step_refit = [&](int e, const std::string& label, const std::string& why, bool fold_start = false) {
     const Effect E = o.effects[e];
     EffectResult& r = res.effects[e];
     report("analysis", label + ": " + effect_name(E) + why + " refitted from its linearised step with the centre values",
            false);
     const CandidateStep step = candidate_step(base_full, all_flights, e);
+    if (fold_start && !r.fold_parameters.empty()) {
+      std::vector<double> mean(r.fold_parameters.front().size(), 0.0);
+      for (const auto& fp : r.fold_parameters)
+        for (std::size_t i = 0; i < mean.size() && i < fp.size(); ++i)
+          mean[i] += fp[i] / static_cast<double>(r.fold_parameters.size());
+      const bool nonzero = std::any_of(mean.begin(), mean.end(), [](double v) { return v != 0.0; });
+      if (nonzero && !values_at_range_edge(E, mean)) {
+        lead_effect = e;
+        lead_values = mean;
+        lead_from_base = true;
+      }
+    }
     FitOutcome n = fit_effects(base_full, all_flights, label, false, {e}, {}, false, &step.starts)[e];
+    lead_effect = -1;
+    lead_from_base = false;
     const auto before = effect_values(eff_full[e].model.effects, E);
     const auto after = effect_values(n.model.effects, E);
     const std::string implausible = describe_implausible(E, after, limits[e]);
@@ -2294,7 +2315,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     for (int e = 0; e < ne; ++e)
       if (heldout_step_eligible(res.effects[e], o, full_stepped[e], per_flight(o.effects[e])) &&
           step_refit(e, "all gliders, held-out-led",
-                     " (held-out shrink " + fmt(100 * res.effects[e].shrink, 3) + " %)"))
+                     " (held-out shrink " + fmt(100 * res.effects[e].shrink, 3) + " %)", o.heldout_fold_start))
         full_stepped[e] = true;
     timings["heldout_steps_s"] = since(ts);
   }
@@ -3261,6 +3282,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"leader_start", o.leader_start},
                   {"leader_reached", o.leader_reached},
                   {"heldout_steps", o.heldout_steps},
+                  {"heldout_fold_start", o.heldout_fold_start},
                   {"theory_starts", o.theory_starts},
                   {"hold_theory", o.hold_theory},
                   {"escalate", o.escalate},

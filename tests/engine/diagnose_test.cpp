@@ -581,6 +581,44 @@ TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
   EXPECT_THROW(diagnose(d, o), InputError);
 }
 
+// (DiagnoseOptions::heldout_fold_start, experimental) The held-out-led
+// refit of the case above also starts pitch damping at the mean of its
+// folds' fitted strengths, switched on from the baseline in steps: with
+// leader_reached at 100 the start is made even where the step reached it,
+// and its line names the folds' mean, which is the mean of the strengths
+// the result reports for the folds. Off (the default) no such start; the
+// verdict and its strength (the truth's 1 within 0.1) either way.
+TEST(Diagnose, AHeldOutLedRefitCanStartFromTheFoldsMeanStrength) {
+  auto [d, o] = profiled_pitch_damping_case();
+  o.profiled_candidates = 0;
+  o.leader_reached = 100;
+  for (const bool fold_start : {true, false}) {
+    SCOPED_TRACE(fold_start ? "with the folds' start" : "without");
+    o.heldout_fold_start = fold_start;
+    std::vector<std::string> lines;
+    const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+    ASSERT_EQ(r.verdict, "pitch_damping") << r.summary;
+    const auto& pd = *std::find_if(r.effects.begin(), r.effects.end(),
+                                   [](const EffectResult& e) { return e.effect == Effect::PitchDamping; });
+    ASSERT_EQ(pd.fold_parameters.size(), static_cast<std::size_t>(o.folds));
+    double mean = 0;
+    for (const auto& fp : pd.fold_parameters) mean += fp.at(0) / o.folds;
+    ASSERT_GT(mean, 0.5);
+    const std::string ramp = "all gliders, held-out-led: pitch_damping switched on to its folds' mean strength (strength ";
+    EXPECT_EQ(lines_with(lines, ramp), fold_start ? 1 : 0);
+    for (const auto& l : lines)
+      if (l.find(ramp) != std::string::npos) {
+        const double shown = std::stod(l.substr(l.find(ramp) + ramp.size()));
+        EXPECT_NEAR(shown, mean, 0.001 * mean) << l;  // printed to 3 significant digits
+      }
+    if (fold_start)
+      EXPECT_GE(lines_with(lines, "its folds' mean strength"), 2);  // the ramp and the refit from there
+    else
+      EXPECT_EQ(lines_with(lines, "its folds' mean strength"), 0);
+    EXPECT_NEAR(pd.parameters.at(0), 1.0, 0.1);
+  }
+}
+
 // Carried steps (DiagnoseOptions::carry_steps): a candidate refitted from
 // its linearised step on all gliders is refitted from its step in every
 // fold, also where the fold's training gliders give it no gain, and the
