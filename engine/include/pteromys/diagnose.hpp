@@ -237,7 +237,9 @@ struct DiagnoseOptions {
   /// the flights better. Made for pitch damping at 1 on 20 gliders (blind
   /// seed 34): held-out shrink 28.8 % (17 of 20 gliders; folds 0, 0.04,
   /// 0.54, 0.40) while on all gliders every start from strength 0 returned
-  /// to 0 and the verdict was `unexplained` (docs/diagnosis.md).
+  /// to 0 and the verdict was `unexplained`; with it named (0.537 from the
+  /// folds' mean 0.246, likelihood-ratio delta chi2 3862). Not yet run on
+  /// null data or other cases (docs/diagnosis.md).
   bool heldout_fold_start = false;
   /// Theoretical-size starts (profiled fits only): every aerodynamic
   /// correction is also started at strength 1, reached as the oracle's
