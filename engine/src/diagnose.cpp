@@ -704,6 +704,14 @@ SecondRoundOutcome second_round_outcome(const std::vector<EffectResult>& effects
   return out;
 }
 
+// The mean over folds of each of a candidate's `pe` fitted parameters.
+static std::vector<double> fold_mean(const std::vector<std::vector<double>>& fold_params, int pe) {
+  std::vector<double> m(pe, 0.0);
+  for (const auto& fp : fold_params)
+    for (int i = 0; i < pe; ++i) m[i] += fp.at(i) / static_cast<double>(fold_params.size());
+  return m;
+}
+
 bool heldout_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool stepped, bool per_flight) {
   return !stepped && !per_flight && r.shrink >= o.min_shrink &&
          (!o.holdout_chi2_test || r.holdout_delta_chi2 > r.holdout_threshold) && r.robust_pass && r.plausible &&
@@ -2218,9 +2226,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       dsse = train_dsse[e] / std::max(1, K - 1);
       sse_e = sse0_fit - dsse;
       r.fit_rmse_m = std::sqrt(std::max(0.0, sse_e) / res.points);
-      r.parameters.assign(pe, 0.0);
-      for (const auto& fp : fold_params[e])
-        for (int i = 0; i < pe; ++i) r.parameters[i] += fp[i] / K;
+      r.parameters = fold_mean(fold_params[e], pe);
     }
     set_likelihood_ratio(r, E, dsse, sse_e);
     // Held-out confirmation.
@@ -2271,10 +2277,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
            false);
     const CandidateStep step = candidate_step(base_full, all_flights, e);
     if (fold_start && !r.fold_parameters.empty()) {
-      std::vector<double> mean(r.fold_parameters.front().size(), 0.0);
-      for (const auto& fp : r.fold_parameters)
-        for (std::size_t i = 0; i < mean.size() && i < fp.size(); ++i)
-          mean[i] += fp[i] / static_cast<double>(r.fold_parameters.size());
+      const auto mean = fold_mean(r.fold_parameters, static_cast<int>(r.fold_parameters.front().size()));
       const bool nonzero = std::any_of(mean.begin(), mean.end(), [](double v) { return v != 0.0; });
       if (nonzero && !values_at_range_edge(E, mean)) {
         lead_effect = e;

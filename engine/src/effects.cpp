@@ -557,7 +557,7 @@ Wrench EffectAero::wrench(const FlightState& s, const WingFlow* fl, double cb, d
     T += cross(f_.fuselage_centroid, Ff);
     F = F + Ff;
   }
-  return {{cb * F.x - sb * F.y, sb * F.x + cb * F.y}, T};  // rotate(F, s.beta)
+  return {rotate(F, cb, sb), T};
 }
 
 double EffectAero::max_alpha(const FlightState& s) const {
@@ -580,7 +580,7 @@ AddedMass EffectAero::added_mass(const FlightState& s) const {
     const double ma = values_.added_mass * rho_ * wf.apparent_mass;
     const double ia = values_.added_mass * rho_ * wf.apparent_inertia;
     const Vec2 n = rotate({0.0, 1.0}, s.beta + deg2rad(mounts[j].angle_deg));
-    const Vec2 r{cb * wf.mid_chord.x - sb * wf.mid_chord.y, sb * wf.mid_chord.x + cb * wf.mid_chord.y};
+    const Vec2 r = rotate(wf.mid_chord, cb, sb);
     const double J[3] = {n.x, n.y, cross(r, n)};
     const double zn_v = -n.y * s.v.x + n.x * s.v.y;  // (z x n) . v
     for (int a = 0; a < 3; ++a) {

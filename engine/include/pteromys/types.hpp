@@ -36,11 +36,11 @@ inline Vec2 operator*(double s, Vec2 a) { return {s * a.x, s * a.y}; }
 inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
 inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 inline double norm(Vec2 a) { return std::hypot(a.x, a.y); }
+/// Rotate `a` counter-clockwise (about +z) by the angle whose cosine and
+/// sine are `c` and `s` (computed once for several vectors).
+inline Vec2 rotate(Vec2 a, double c, double s) { return {c * a.x - s * a.y, s * a.x + c * a.y}; }
 /// Rotate `a` counter-clockwise (about +z) by `angle` radians.
-inline Vec2 rotate(Vec2 a, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * a.x - s * a.y, s * a.x + c * a.y};
-}
+inline Vec2 rotate(Vec2 a, double angle) { return rotate(a, std::cos(angle), std::sin(angle)); }
 
 /// Closed polygon: n x 2 list of vertices, the last joins the first (not repeated).
 using Polygon = std::vector<Vec2>;
