@@ -6,6 +6,11 @@
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 "$ROOT/scripts/setup.sh"
+echo "test_all: set-up and build $SECONDS s"
 cd "$ROOT/build"
+t=$SECONDS
 ctest --output-on-failure -j"$(nproc)" "$@"
+echo "test_all: Release suite $((SECONDS - t)) s"
+t=$SECONDS
 "$ROOT/scripts/sanitize.sh"
+echo "test_all: sanitizer run $((SECONDS - t)) s; all $SECONDS s"
