@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The engine under AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer
 # (docs/reliability.md): builds ./build-san with clang (engine library, the
-# GoogleTest suite, the libFuzzer targets), runs every engine test and replays
-# every fuzz corpus and regression input once. Any finding fails the script.
+# GoogleTest suite, the libFuzzer targets), runs the engine tests (all but one
+# capture test and the whole diagnoses not listed below) and replays every fuzz
+# corpus and regression input once. Any finding fails the script.
 #
 #   ./scripts/sanitize.sh            build + engine tests + fuzz replays
 #   FUZZ_SECONDS=300 ./scripts/sanitize.sh fuzz   also fuzz each target that long
