@@ -62,11 +62,12 @@ def step_errors(dataset, steps, ref_dt=0.0005, model=None):
             return np.c_[np.interp(t_rel, s[:, 0], s[:, 1]), np.interp(t_rel, s[:, 0], s[:, 2])]
 
         ref = flown(ref_dt, "rk4")
-        if ref is None or any(flown(dt, "verlet") is None for dt in steps):
+        verlet = {dt: flown(dt, "verlet") for dt in steps} if ref is not None else {}
+        if ref is None or any(p is None for p in verlet.values()):
             skipped += 1
             continue
         for dt in steps:
-            e = np.hypot(*(flown(dt, "verlet") - ref).T)
+            e = np.hypot(*(verlet[dt] - ref).T)
             errs[dt].extend(e.tolist())
             if e.max() > worst[dt][0]:
                 worst[dt] = (float(e.max()), name)
@@ -80,7 +81,14 @@ def main():
     ap.add_argument("--ref-dt", type=float, default=0.0005, help="Runge-Kutta reference step [s]")
     ap.add_argument("--model", default=None, help="coefficient model (default: the shipped one)")
     args = ap.parse_args()
-    steps = [float(s) for s in args.dt.split(",") if s.strip()]
+    if not os.path.isfile(args.dataset):
+        sys.exit("dt_error.py: no dataset at %s" % args.dataset)
+    try:
+        steps = [float(s) for s in args.dt.split(",") if s.strip()]
+    except ValueError:
+        sys.exit("dt_error.py: --dt must be a comma-separated list of steps in seconds, got %r" % args.dt)
+    if not steps or not all(0 < h <= 0.05 for h in steps + [args.ref_dt]):
+        sys.exit("dt_error.py: every step (--dt, --ref-dt) must lie in (0, 0.05] s")
     model = pt.load_model(args.model) if args.model else None
     errs, worst, n, skipped, noise = step_errors(args.dataset, steps, args.ref_dt, model)
     print("%s: %d flights, Verlet against Runge-Kutta at %g s (flights the model flies into the ground or out of "
