@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "commands.hpp"
@@ -110,7 +111,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--plausible", "--profile-min-gliders",
-                                        "--profiled-candidates", "--step-alpha", "--leader-reached"};
+                                        "--profiled-candidates", "--step-alpha", "--leader-reached",
+                                        "--stability"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard",
@@ -215,6 +217,10 @@ int run_diagnose(const std::vector<std::string>& argv) {
     o.fit.prior = fp->params();
   }
 
+  // --stability N: N runs in all (the diagnosis and N - 1 re-runs at
+  // slightly changed steps); checked before the dataset is read.
+  const int stability = a.has("--stability") ? whole(a, "--stability", 3, 2, 7) : 0;
+
   const std::string path = a.positional[0];
   const Dataset d = load_dataset(path);
   const bool quiet = a.flag("--quiet");
@@ -229,6 +235,11 @@ int run_diagnose(const std::vector<std::string>& argv) {
   };
   const DiagnoseResult r = diagnose(d, o, progress);
   nlohmann::json j = diagnosis_json(r, o);
+  std::optional<StabilityCheck> st;
+  if (stability > 0) {
+    st = check_stability(d, o, r, stability, progress);
+    add_stability_json(j, *st);
+  }
   j["dataset"]["path"] = path;
   j["pteromys_version"] = kVersion;
   const std::string text = j.dump(1) + "\n";
@@ -251,7 +262,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
     if (!scratch.empty()) std::remove(scratch.c_str());
   }
   if (!quiet) {
-    std::cout << "verdict: " << r.verdict << "\n" << r.summary << "\n";
+    std::cout << "verdict: " << r.verdict << "\n" << r.summary << (st ? " " + st->sentence : std::string()) << "\n";
     std::cout << "baseline: fit RMSE " << r.fit_rmse_m << " m, held-out RMSE " << r.holdout_rmse_m << " m (noise alone "
               << r.noise_rmse_m << " m); " << r.seconds << " s\n";
     for (const auto& e : r.effects)
@@ -332,6 +343,10 @@ const bool registered_diagnose = register_command(
          "                          gain on all gliders was under the screen is refitted from its\n"
          "                          step there before its likelihood-ratio test (docs); with this\n"
          "                          option it is not; --heldout-steps: the default, explicitly\n"
+         "  --stability N           run the diagnosis N times in all (2-7), the re-runs with the\n"
+         "                          simulation step changed by 5 %, 10 %, ... either way, and say\n"
+         "                          whether the verdict stayed the same (key 'stability'; the\n"
+         "                          verdict is the first run's; N times as long; docs)\n"
          "  --heldout-fold-start    such a refit also starts at the mean of the folds' fitted\n"
          "                          strengths, switched on in steps; and a correction the held-out\n"
          "                          gliders confirm whose step on all gliders ended under half that\n"

@@ -1,6 +1,8 @@
 // Bindings: the sim-to-real diagnosis (diagnose.hpp) and its candidate effects
 // (effects.hpp). The Python wrappers with keyword documentation are in
 // pteromys/diagnose.py.
+#include <optional>
+
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>
 
@@ -303,12 +305,23 @@ void bind_diagnose(py::module_& m) {
         x["message"] = p.message;
         progress(x);
       };
+    // stability: runs in all of a stability check (0: none; 2-7).
+    int stability = 0;
+    if (kw.contains("stability") && !kw["stability"].is_none()) {
+      const double v = kw["stability"].cast<double>();
+      if (v != 0 && (v != std::floor(v) || v < 2 || v > 7))
+        throw InputError("stability must be 0 (no check) or a whole number between 2 and 7");
+      stability = static_cast<int>(v);
+    }
     DiagnoseResult r;
+    std::optional<StabilityCheck> st;
     {
       py::gil_scoped_release nogil;
       r = diagnose(d, o, cb);
+      if (stability > 0) st = check_stability(d, o, r, stability, cb);
     }
     json j = diagnosis_json(r, o);
+    if (st) add_stability_json(j, *st);
     j["dataset"]["path"] = dataset;
     return j.dump();
   }, py::arg("dataset"), py::arg("options"), py::arg("progress") = py::none());

@@ -3346,4 +3346,75 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   return j;
 }
 
+std::vector<double> stability_factors(int runs) {
+  if (runs < 2 || runs > 7)
+    throw InputError("a stability check takes 2 to 7 runs (the first and its re-runs), not " + std::to_string(runs));
+  std::vector<double> f{1.0};
+  for (int k = 1; k < runs; ++k) f.push_back(1.0 + (k % 2 == 1 ? -1.0 : 1.0) * 0.05 * ((k + 1) / 2));
+  return f;
+}
+
+namespace {
+std::string ms(double dt) { return fmt(1000 * dt, 3) + " ms"; }
+
+double shrink_of(const DiagnoseResult& r, const std::string& name) {
+  for (const auto& e : r.effects)
+    if (e.name == name) return e.shrink;
+  return 0.0;
+}
+}  // namespace
+
+StabilityCheck check_stability(const Dataset& d, const DiagnoseOptions& o, const DiagnoseResult& first, int runs,
+                               const DiagnoseCallback& progress) {
+  const auto factors = stability_factors(runs);
+  StabilityCheck out;
+  out.runs.push_back({o.sim.dt, first.verdict, shrink_of(first, first.verdict), first.seconds});
+  for (std::size_t k = 1; k < factors.size(); ++k) {
+    DiagnoseOptions ok = o;
+    ok.sim.dt = o.sim.dt * factors[k];
+    const std::string head = "stability check " + std::to_string(k) + "/" + std::to_string(factors.size() - 1) +
+                             " (step " + ms(ok.sim.dt) + "): ";
+    DiagnoseCallback cb;
+    if (progress)
+      cb = [&](const DiagnoseProgress& p) {
+        DiagnoseProgress q = p;
+        q.message = head + p.message;
+        progress(q);
+      };
+    const DiagnoseResult r = diagnose(d, ok, cb);
+    out.runs.push_back({ok.sim.dt, r.verdict, shrink_of(r, first.verdict), r.seconds});
+  }
+  out.agree = 0;
+  std::vector<std::string> other;
+  for (const auto& r : out.runs) {
+    if (r.verdict == first.verdict) ++out.agree;
+    else other.push_back(ms(r.dt_s) + ": " + r.verdict);
+  }
+  out.stable = out.agree == static_cast<int>(out.runs.size());
+  std::string steps;
+  for (std::size_t k = 1; k < out.runs.size(); ++k) steps += (k > 1 ? ", " : "") + ms(out.runs[k].dt_s);
+  const std::string n = std::to_string(out.runs.size());
+  if (out.stable) {
+    out.sentence = "Re-run with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
+                   "), the verdict was " + first.verdict + " in all " + n + " runs.";
+  } else {
+    std::string others;
+    for (std::size_t i = 0; i < other.size(); ++i) others += (i ? "; " : "") + other[i];
+    out.sentence = "Re-run with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
+                   "), the verdict was " + first.verdict + " in only " + std::to_string(out.agree) + " of " + n +
+                   " runs (" + others +
+                   "): it turns on the search's path rather than on the data, so treat it as tentative.";
+  }
+  return out;
+}
+
+void add_stability_json(nlohmann::json& j, const StabilityCheck& s) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const auto& r : s.runs)
+    runs.push_back({{"dt_s", r.dt_s}, {"verdict", r.verdict}, {"verdict_shrink", r.verdict_shrink}, {"seconds", r.seconds}});
+  j["stability"] = {{"runs", runs}, {"agree", s.agree}, {"of", s.runs.size()}, {"stable", s.stable}, {"sentence", s.sentence}};
+  const std::string summary = j.value("summary", std::string());
+  j["summary"] = summary.empty() ? s.sentence : summary + " " + s.sentence;
+}
+
 }  // namespace pteromys

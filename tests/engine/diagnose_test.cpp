@@ -2243,3 +2243,22 @@ TEST(Diagnose, ATheoreticalSizeStartFarFromTheFlightsEndsItsRampEarly) {
   }
   EXPECT_EQ(lines_with(lines, "pitch_damping from its theoretical size with the centre values"), 0);
 }
+
+// Stability checks (check_stability): the re-runs' steps go 5 % finer, 5 %
+// coarser, then 10 % either way, ..., the first run's step first; 2 to 7
+// runs in all, anything else refused.
+TEST(Diagnose, StabilityChecksStepFivePercentEitherWayInTurn) {
+  const auto f3 = stability_factors(3);
+  ASSERT_EQ(f3.size(), 3u);
+  EXPECT_DOUBLE_EQ(f3[0], 1.0);
+  EXPECT_DOUBLE_EQ(f3[1], 0.95);
+  EXPECT_DOUBLE_EQ(f3[2], 1.05);
+  const auto f7 = stability_factors(7);
+  const std::vector<double> want{1.0, 0.95, 1.05, 0.90, 1.10, 0.85, 1.15};
+  ASSERT_EQ(f7.size(), want.size());
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_NEAR(f7[i], want[i], 1e-15) << i;
+  EXPECT_EQ(stability_factors(2).size(), 2u);
+  EXPECT_THROW(stability_factors(1), InputError);
+  EXPECT_THROW(stability_factors(8), InputError);
+  EXPECT_THROW(stability_factors(0), InputError);
+}

@@ -535,6 +535,45 @@ def test_second_round_makes_the_first_rounds_guards(camera_case):
         assert g["note"].startswith("with %s in the model, " % tested_with), g["note"]
 
 
+def test_stability_check_reruns_the_diagnosis_at_a_changed_step(tmp_path, camera_case):
+    """--stability 2: the diagnosis, then once more with the simulation step
+    5 % finer (1.9 ms for 2 ms). The first run must be the plain diagnosis
+    (the fixture's, same options), the re-run must be what an independent
+    `--dt 0.0019` diagnosis gives, and the agreement, the summary's
+    sentence and the report's section must say what the two verdicts say."""
+    ds, plain, _, _ = camera_case
+    out, rep = tmp_path / "st.json", tmp_path / "rep"
+    r = run(["diagnose", ds, "--json", out, "--report", rep, "--stability", "2"] + FAST)
+    assert r.returncode == 0, r.stderr[-3000:]
+    j = load(out)
+    st = j["stability"]
+    assert j["verdict"] == plain["verdict"] and j["effects"] == plain["effects"]
+    assert [x["dt_s"] for x in st["runs"]] == pytest.approx([0.002, 0.0019])
+    assert st["runs"][0]["verdict"] == plain["verdict"]
+    assert "stability check 1/1 (step 1.9 ms)" in r.stderr
+    other_out = tmp_path / "dt19.json"
+    r2 = run(["diagnose", ds, "--json", other_out, "--dt", "0.0019"] + FAST)
+    assert r2.returncode == 0, r2.stderr[-3000:]
+    other = load(other_out)
+    assert st["runs"][1]["verdict"] == other["verdict"]
+    shrink = {e["name"]: e["shrink"] for e in other["effects"]}.get(plain["verdict"], 0.0)
+    assert st["runs"][1]["verdict_shrink"] == pytest.approx(shrink, abs=1e-12)
+    same = other["verdict"] == plain["verdict"]
+    assert st["agree"] == (2 if same else 1) and st["of"] == 2 and st["stable"] is same
+    assert j["summary"].startswith(plain["summary"]) and j["summary"].endswith(st["sentence"])
+    assert ("in all 2 runs" if same else "in only 1 of 2 runs") in st["sentence"]
+    page = (rep / "index.html").read_text()
+    assert "<h2>Stability</h2>" in page and "1.9 ms" in page
+    assert ("tentative" in page) is (not same)
+
+
+def test_python_call_refuses_a_bad_stability(tmp_path):
+    import pteromys
+    ds = _generate(tmp_path, "d", "baseline")
+    with pytest.raises(Exception, match="stability"):
+        pteromys.diagnose(ds, stability=1)
+
+
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
@@ -570,6 +609,9 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "0"], "--step-alpha"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "1.5"], "--step-alpha"),
     (["diagnose", "DS", "--json", "OUT", "--step-alpha", "nan"], "--step-alpha"),
+    (["diagnose", "DS", "--json", "OUT", "--stability", "1"], "--stability"),
+    (["diagnose", "DS", "--json", "OUT", "--stability", "8"], "--stability"),
+    (["diagnose", "DS", "--json", "OUT", "--stability", "2.5"], "--stability"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None

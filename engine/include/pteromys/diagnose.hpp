@@ -814,6 +814,43 @@ bool launch_rotation_per_flight_from(const std::string& value, const std::string
 /// training and held-out gliders), unknown or repeated candidates, bad options.
 DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o = {}, const DiagnoseCallback& progress = {});
 
+/// One re-run of a stability check (check_stability).
+struct StabilityRun {
+  double dt_s = 0;          ///< the simulation step of this run [s]
+  std::string verdict;      ///< its verdict
+  double verdict_shrink = 0;  ///< its held-out shrink of the first run's verdict effect (0 for none/unexplained)
+  double seconds = 0;
+};
+
+/// Whether a verdict survives re-running the search on a slightly different
+/// path (docs/diagnosis.md, Limits, "Verdicts that turn on the search's
+/// path"): the same diagnosis with the simulation step changed by 5 %, 10 %,
+/// ... either way (1.9 and 2.1 ms for 2 ms). Such steps integrate the
+/// flights about as accurately as the default (under a hundredth of 1 cm of
+/// tracking noise), but the search's discrete choices (which centre next,
+/// which candidates pass a screen, which basin) can go another way, and the
+/// verdicts of weakly identified effects follow them.
+struct StabilityCheck {
+  std::vector<StabilityRun> runs;  ///< the first (given) run, then the re-runs
+  int agree = 0;                   ///< runs whose verdict is the first run's
+  bool stable = true;              ///< every run agrees
+  std::string sentence;            ///< one plain-language sentence for the summary
+};
+
+/// The step factors of a stability check's `runs` runs: 1, 0.95, 1.05, 0.9,
+/// 1.1, ... (runs from 2 to 7).
+std::vector<double> stability_factors(int runs);
+
+/// Re-runs diagnose(d, o) runs - 1 times with o.sim.dt scaled by
+/// stability_factors and compares each verdict with `first` (the result of
+/// diagnose(d, o)). Progress lines are those of each re-run, prefixed.
+StabilityCheck check_stability(const Dataset& d, const DiagnoseOptions& o, const DiagnoseResult& first, int runs,
+                               const DiagnoseCallback& progress = {});
+
+/// Adds `s` to a diagnosis JSON (key "stability", its sentence appended to
+/// "summary").
+void add_stability_json(nlohmann::json& j, const StabilityCheck& s);
+
 /// The result as JSON, format "pteromys-diagnosis/1" (spec keys: baseline
 /// {fit_rmse_m, holdout_rmse_m}, effects [{name, holdout_rmse_m, shrink,
 /// significant}], verdict) plus summary, where, effects' parameters and

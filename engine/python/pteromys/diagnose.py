@@ -27,7 +27,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, leader_reached=0.5,
              theory_starts=False,
              hold_theory=False, step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0,
-             progress=None):
+             stability=0, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -82,6 +82,11 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``--theory-starts``, ``--hold-theory``, ``--step-per-flight``,
     ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
     (docs/diagnosis.md, *Using it*).
+    ``stability`` (default 0: none): run the diagnosis this many times in
+    all (2 to 7), the re-runs with the simulation step changed by 5 %,
+    10 %, ... either way, and report whether the verdict stayed the same
+    (result key ``stability``, its sentence appended to ``summary``; the
+    verdict is the first run's); the CLI's ``--stability``.
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
@@ -102,7 +107,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 leader_start=bool(leader_start), leader_reached=float(leader_reached),
                 theory_starts=bool(theory_starts), hold_theory=bool(hold_theory),
                 step_per_flight=bool(step_per_flight), refit_unstepped=bool(refit_unstepped), oracle=oracle,
-                plausible=plausible, threads=threads)
+                plausible=plausible, threads=threads, stability=stability)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
 

@@ -234,13 +234,20 @@ def render(r, out, quiet=True):
             "Passed over: %s predicted the held-out gliders better, but re-tuned coefficients can imitate it and its "
             "advantage is not significant across gliders (paired t %.2f, needed %.2f)."
             % (po["effect"], po["paired_t"], po["t_critical"]))
+    st = r.get("stability")
+    verdict = r["verdict"] + (" (tentative: not the same in every stability run)" if st and not st["stable"] else "")
+    st_rows = ([["%.3g ms" % (1000 * x["dt_s"]), x["verdict"], "%.1f %%" % (100 * x["verdict_shrink"]),
+                 "%.0f s" % x["seconds"]] for x in st["runs"]] if st else [])
+    st_head = ["simulation step", "verdict", "held-out shrink of %s" % r["verdict"], "time"]
     md = "# Sim-to-real gap diagnosis\n\n%s\n\n**Verdict: %s**\n\n%s\n\n%s\n\n" % (
-        head, r["verdict"], r.get("summary", ""), base)
+        head, verdict, r.get("summary", ""), base)
     if also:
         md += also + "\n\n"
     md += "## Which effect\n\n" + _md_table(_EFF_HEAD, eff_rows) + "\n"
     if "effects" in files:
         md += "![effects](effects.png)\n\n"
+    if st_rows:
+        md += "## Stability\n\n%s\n\n" % st["sentence"] + _md_table(st_head, st_rows) + "\n"
     md += "## Where the gap lies\n\n" + _md_table(_PHASE_HEAD, phase_rows) + "\n"
     for k in ("phases", "gliders", "error_vs_time"):
         if k in files:
@@ -256,12 +263,14 @@ def render(r, out, quiet=True):
          "table{border-collapse:collapse;font-size:90%;}td,th{border:1px solid #bbb;padding:3px 6px;}"
          ".verdict{font-size:130%;font-weight:bold;}</style></head><body>",
          "<h1>Sim-to-real gap diagnosis</h1>", "<p>%s</p>" % html.escape(head),
-         "<p class='verdict'>Verdict: %s</p>" % html.escape(r["verdict"]),
+         "<p class='verdict'>Verdict: %s</p>" % html.escape(verdict),
          "<p>%s</p>" % html.escape(also) if also else "",
          "<p>%s</p>" % html.escape(r.get("summary", "")), "<p>%s</p>" % html.escape(base),
          "<h2>Which effect</h2>", _html_table(_EFF_HEAD, eff_rows)]
     if "effects" in files:
         h.append("<img src='effects.png' alt='ranked effects'>")
+    if st_rows:
+        h += ["<h2>Stability</h2>", "<p>%s</p>" % html.escape(st["sentence"]), _html_table(st_head, st_rows)]
     h += ["<h2>Where the gap lies</h2>", _html_table(_PHASE_HEAD, phase_rows)]
     for k in ("phases", "gliders", "error_vs_time"):
         if k in files:
