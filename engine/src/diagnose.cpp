@@ -718,22 +718,6 @@ bool heldout_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool
          r.bound_pass;
 }
 
-bool collapsed_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool per_flight) {
-  if (!o.heldout_fold_start || per_flight || !heldout_step_eligible(r, o, false, false)) return false;
-  if (effect_spec(r.effect).level != EffectLevel::Aerodynamic || r.fold_parameters.empty()) return false;
-  const auto& ps = effect_spec(r.effect).parameters;
-  if (r.parameters.size() != ps.size()) return false;
-  const auto mean = fold_mean(r.fold_parameters, static_cast<int>(ps.size()));
-  if (values_at_range_edge(r.effect, mean)) return false;
-  for (std::size_t i = 0; i < ps.size(); ++i) {
-    if (!std::isfinite(r.parameters[i]) || mean[i] == 0.0) return false;
-    // Reached: the fit to all gliders has the same sign and at least
-    // leader_reached of the folds' mean (the leader's start's rule).
-    if (r.parameters[i] * mean[i] > 0 && std::abs(r.parameters[i]) >= o.leader_reached * std::abs(mean[i])) return false;
-  }
-  return true;
-}
-
 IdentifiablePreference prefer_identifiable(const std::vector<EffectResult>& effects, int best,
                                            const std::vector<std::vector<double>>& glider_sse, double alpha) {
   const int n = static_cast<int>(effects.size());
@@ -2331,24 +2315,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // baseline stays as it is; the decisions below are the same rule.
   if (o.heldout_steps && step_refit_possible) {
     const auto ts = Clock::now();
-    for (int e = 0; e < ne; ++e) {
-      const EffectResult& r = res.effects[e];
-      if (heldout_step_eligible(r, o, full_stepped[e], per_flight(o.effects[e]))) {
-        if (step_refit(e, "all gliders, held-out-led", " (held-out shrink " + fmt(100 * r.shrink, 3) + " %)",
-                       o.heldout_fold_start))
-          full_stepped[e] = true;
-      } else if (full_stepped[e] && collapsed_step_eligible(r, o, per_flight(o.effects[e]))) {
-        // (heldout_fold_start) Stepped on all gliders already, but its fit
-        // there stayed under half its folds' mean: again, from that mean.
-        step_refit(e, "all gliders, held-out-led",
-                   " (held-out shrink " + fmt(100 * r.shrink, 3) + " %; " + describe_parameters(o.effects[e], r.parameters) +
-                       " on all gliders, under " + fmt(o.leader_reached, 2) + " of its folds' mean " +
-                       describe_parameters(o.effects[e],
-                                           fold_mean(r.fold_parameters, static_cast<int>(r.parameters.size()))) +
-                       ")",
-                   true);
-      }
-    }
+    for (int e = 0; e < ne; ++e)
+      if (heldout_step_eligible(res.effects[e], o, full_stepped[e], per_flight(o.effects[e])) &&
+          step_refit(e, "all gliders, held-out-led",
+                     " (held-out shrink " + fmt(100 * res.effects[e].shrink, 3) + " %)", o.heldout_fold_start))
+        full_stepped[e] = true;
     timings["heldout_steps_s"] = since(ts);
   }
   // ------------------------------------------------------------ the training test's reference

@@ -2046,67 +2046,6 @@ TEST(Diagnose, HeldOutLedStepsTakeOnlyCandidatesTheHeldOutGlidersConfirm) {
   EXPECT_FALSE(heldout_step_eligible(r, wide, false, false));
 }
 
-// (DiagnoseOptions::heldout_fold_start) Which candidates already stepped on
-// all gliders are refitted there again from their folds' mean: an
-// aerodynamic correction the held-out gliders confirm whose all-glider fit
-// stayed under half that mean (blind pitch damping at 1, seed 33 at a
-// 1.9 ms step: 0 on all gliders, folds 0.30, 0.49, 0.30, 0.04, 7.8 % held
-// out). Not without the option, not once the fit reached half the mean or
-// went past it, not with the held-out gliders against it, not for wind or
-// the camera (not strengths), not at a mean of 0 or at the range's edge.
-TEST(Diagnose, ACollapsedStepIsRefittedFromTheFoldsMeanOnlyWhenTheHeldOutGlidersConfirmIt) {
-  DiagnoseOptions o;
-  o.heldout_fold_start = true;
-  EffectResult r;
-  r.effect = Effect::PitchDamping;
-  r.shrink = 0.078;
-  r.holdout_delta_chi2 = 120;
-  r.holdout_threshold = 10.6;
-  r.robust_pass = true;
-  r.plausible = true;
-  r.parameters = {0.0};
-  r.fold_parameters = {{0.30}, {0.49}, {0.30}, {0.04}};  // mean 0.2825
-  EXPECT_TRUE(collapsed_step_eligible(r, o, false));
-  DiagnoseOptions off = o;
-  off.heldout_fold_start = false;
-  EXPECT_FALSE(collapsed_step_eligible(r, off, false));
-  EXPECT_FALSE(collapsed_step_eligible(r, o, true));  // per flight
-  EffectResult under_half = r;
-  under_half.parameters = {0.14};  // 0.496 of the mean
-  EXPECT_TRUE(collapsed_step_eligible(under_half, o, false));
-  EffectResult reached = r;
-  reached.parameters = {0.15};  // 0.531 of the mean
-  EXPECT_FALSE(collapsed_step_eligible(reached, o, false));
-  EffectResult beyond = r;
-  beyond.parameters = {0.9};
-  EXPECT_FALSE(collapsed_step_eligible(beyond, o, false));
-  EffectResult small = r;
-  small.shrink = 0.04;  // under the margin
-  EXPECT_FALSE(collapsed_step_eligible(small, o, false));
-  EffectResult noise = r;
-  noise.holdout_delta_chi2 = 5;
-  EXPECT_FALSE(collapsed_step_eligible(noise, o, false));
-  EffectResult one_glider = r;
-  one_glider.robust_pass = false;
-  EXPECT_FALSE(collapsed_step_eligible(one_glider, o, false));
-  EffectResult zero_mean = r;
-  zero_mean.fold_parameters = {{0.0}, {0.0}, {0.0}, {0.0}};
-  EXPECT_FALSE(collapsed_step_eligible(zero_mean, o, false));
-  EffectResult no_folds = r;
-  no_folds.fold_parameters.clear();
-  EXPECT_FALSE(collapsed_step_eligible(no_folds, o, false));
-  EffectResult wind = r;
-  wind.effect = Effect::Wind;
-  wind.parameters = {0.0};
-  wind.fold_parameters = {{-0.3}, {-0.4}, {-0.3}, {-0.2}};
-  EXPECT_FALSE(collapsed_step_eligible(wind, o, false));
-  // At its range's edge (90 % of the upper bound and beyond): no start there.
-  EffectResult edge = r;
-  const double upper = effect_spec(Effect::PitchDamping).parameters.at(0).upper;
-  edge.fold_parameters = {{upper}, {upper}, {upper}, {upper}};
-  EXPECT_FALSE(collapsed_step_eligible(edge, o, false));
-}
-
 // Theoretical-size starts (DiagnoseOptions::theory_starts): with no
 // candidate refitted from its linearised step (profiled_candidates = 0) the
 // folds' pitch-damping fits keep the baseline's centre values, which took

@@ -238,11 +238,8 @@ struct DiagnoseOptions {
   /// seed 34): held-out shrink 28.8 % (17 of 20 gliders; folds 0, 0.04,
   /// 0.54, 0.40) while on all gliders every start from strength 0 returned
   /// to 0 and the verdict was `unexplained`; with it named (0.537 from the
-  /// folds' mean 0.246, likelihood-ratio delta chi2 3862). With it, a
-  /// correction that was refitted from its step on all gliders already but
-  /// ended there under leader_reached of its folds' mean is refitted so too
-  /// (collapsed_step_eligible; 2026-12-02). Measured on the blind
-  /// benchmark in docs/diagnosis.md and bench/diagnosis/blind_results.md.
+  /// folds' mean 0.246, likelihood-ratio delta chi2 3862). Not yet run on
+  /// null data or other cases (docs/diagnosis.md).
   bool heldout_fold_start = false;
   /// Theoretical-size starts (profiled fits only): every aerodynamic
   /// correction is also started at strength 1, reached as the oracle's
@@ -615,19 +612,6 @@ IdentifiablePreference prefer_identifiable(const std::vector<EffectResult>& effe
 /// glider guard passed and the fit plausible. Its likelihood ratio is not
 /// looked at (that is what the step is for).
 bool heldout_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool stepped, bool per_flight);
-
-/// (DiagnoseOptions::heldout_fold_start) Whether candidate `r`, refitted
-/// from its linearised step on all gliders already, is refitted there again
-/// from the mean of its folds' fitted values: the held-out gliders confirm
-/// it as heldout_step_eligible asks (the margin, the held-out chi-square,
-/// the glider guard, a plausible fit, the bound guard), it is an
-/// aerodynamic correction (a strength, not a launch, wind or camera value)
-/// and its fit to all gliders ended under `o.leader_reached` of its folds'
-/// mean in every parameter, that mean nonzero and not at its range's edge
-/// (blind pitch damping at 1: 0.00 on all gliders, folds 0.30, 0.49, 0.30,
-/// 0.04, 7.8 % held-out shrink; the search on all gliders stayed in the
-/// baseline's basin where the folds left it).
-bool collapsed_step_eligible(const EffectResult& r, const DiagnoseOptions& o, bool per_flight);
 
 /// The summary's sentence on one glider that carries most of the held-out
 /// excess over the noise (at least half of `where["all"]["excess_m2"]`, from
