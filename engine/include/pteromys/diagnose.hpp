@@ -238,8 +238,9 @@ struct DiagnoseOptions {
   /// seed 34): held-out shrink 28.8 % (17 of 20 gliders; folds 0, 0.04,
   /// 0.54, 0.40) while on all gliders every start from strength 0 returned
   /// to 0 and the verdict was `unexplained`; with it named (0.537 from the
-  /// folds' mean 0.246, likelihood-ratio delta chi2 3862). Not yet run on
-  /// null data or other cases (docs/diagnosis.md).
+  /// folds' mean 0.246, likelihood-ratio delta chi2 3862); also pitch
+  /// damping s33 at a 2.1 ms step (0.588 from the folds' mean 0.415). Not
+  /// made on any of the 43 null runs with it (docs/diagnosis.md).
   bool heldout_fold_start = false;
   /// Theoretical-size starts (profiled fits only): every aerodynamic
   /// correction is also started at strength 1, reached as the oracle's
