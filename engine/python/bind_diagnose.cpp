@@ -103,6 +103,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   }
   if (kw.contains("heldout_steps")) o.heldout_steps = kw["heldout_steps"].cast<bool>();
   if (kw.contains("heldout_fold_start")) o.heldout_fold_start = kw["heldout_fold_start"].cast<bool>();
+  if (kw.contains("zeroed_reference")) o.zeroed_reference = kw["zeroed_reference"].cast<bool>();
   if (kw.contains("theory_starts")) o.theory_starts = kw["theory_starts"].cast<bool>();
   if (kw.contains("hold_theory")) o.hold_theory = kw["hold_theory"].cast<bool>();
   if (kw.contains("escalate")) o.escalate = kw["escalate"].cast<bool>();

@@ -371,6 +371,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["refit_unstepped"] is True  # on by default since 2026-11-30
     assert camera_case[1]["options"]["heldout_steps"] is True  # on by default since 2026-11-29
     assert camera_case[1]["options"]["heldout_fold_start"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["zeroed_reference"] is False  # experimental, off by default
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
     assert camera_case[1]["options"]["hold_theory"] is False  # experimental, off by default
     # the second search is off by default and did not run (the verdict is the camera)

@@ -242,6 +242,16 @@ struct DiagnoseOptions {
   /// damping s33 at a 2.1 ms step (0.588 from the folds' mean 0.415). Not
   /// made on any of the 43 null runs with it (docs/diagnosis.md).
   bool heldout_fold_start = false;
+  /// (experimental, off by default; 2026-12-02) The likelihood ratios'
+  /// reference also considers each candidate's own fit to all gliders with
+  /// its values set to 0 and the launches refitted there: a baseline-model
+  /// fit, taken as the reference when it explains the flights better than
+  /// the baseline's own fit. Made for null data whose candidate fit lands in
+  /// a better basin of launches, trims and centre values than the
+  /// baseline's (null seed 212 at a 2.1 ms step: a wind of -0.0018 m/s with
+  /// a likelihood-ratio delta chi2 of 99.9, where such a wind accounts for
+  /// about 19 at most). Without it only candidates fitted exactly at 0 are.
+  bool zeroed_reference = false;
   /// Theoretical-size starts (profiled fits only): every aerodynamic
   /// correction is also started at strength 1, reached as the oracle's
   /// effects are (a quarter, a half, ... of it, the launches and trims
@@ -543,6 +553,9 @@ struct DiagnoseResult {
   /// baseline's. `likelihood_reference_rmse_m`: that fit's RMSE.
   std::string likelihood_reference;
   double likelihood_reference_rmse_m = 0;
+  /// (DiagnoseOptions::zeroed_reference) the reference is that candidate's
+  /// fit with its values set to 0 and the launches refitted
+  bool likelihood_reference_zeroed = false;
   std::optional<OracleResult> oracle;  ///< when DiagnoseOptions::oracle is given
   /// The second search (DiagnoseOptions::escalate): whether it ran, and
   /// the first search's verdict, best candidate and time.
