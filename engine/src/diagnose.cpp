@@ -2340,52 +2340,47 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // may still gain in a pass: a candidate at 0 whose fit matched the
     // baseline's to 1e-10 m of RMSE was not a better fit (blind finite span
     // at 1, 20 gliders, seed 41: pitch damping, "1.6 cm against 1.6 cm").
-    int ref = likelihood_reference(o.effects, params, sse, pf, base_full.sse, 0.2 * s2_noise);
-    // (DiagnoseOptions::zeroed_reference) Each candidate's fit with its
-    // values at 0, the launches refitted: a baseline-model fit.
+    const int ref = likelihood_reference(o.effects, params, sse, pf, base_full.sse, 0.2 * s2_noise);
+    // The reference fit: -1 the baseline's own; its squared error and how
+    // it was reached (zeroed: DiagnoseOptions::zeroed_reference).
+    int ref_effect = ref;
+    double ref_sse = ref >= 0 ? eff_full[ref].sse : base_full.sse, ref_rmse = ref >= 0 ? eff_full[ref].rmse() : 0.0;
+    bool zeroed = false;
     if (o.zeroed_reference) {
+      // Each candidate's fit with its values at 0, the launches refitted:
+      // a baseline-model fit (those exactly at 0 are already weighed above).
       const auto tz = Clock::now();
-      double best = (ref >= 0 ? eff_full[ref].sse : base_full.sse) - 0.2 * s2_noise;
-      int zbest = -1;
-      FitOutcome zfit;
+      double best = ref_sse - 0.2 * s2_noise;
       for (int e = 0; e < ne; ++e) {
         if (pf[e] || std::all_of(params[e].begin(), params[e].end(), [](double v) { return v == 0.0; })) continue;
         DiagModel m = eff_full[e].model;
         for (std::size_t i = 0; i < params[e].size(); ++i) m.effects.at(o.effects[e], static_cast<int>(i)) = 0.0;
         const auto w = launches_of(eff_full[e]);
-        FitOutcome z = D.fit(m, all_flights, {}, &w);
+        const FitOutcome z = D.fit(m, all_flights, {}, &w);
         report("analysis", "all gliders: " + effect_name(o.effects[e]) + "'s fit with its values at 0, launches refitted: RMSE " +
                                cm_against(z.rmse(), base_full.rmse()) + " (with them " + cm(eff_full[e].rmse()) + ")",
                false);
         if (z.sse < best) {
-          best = z.sse;
-          zbest = e;
-          zfit = std::move(z);
+          best = ref_sse = z.sse;
+          ref_rmse = z.rmse();
+          ref_effect = e;
+          zeroed = true;
         }
-      }
-      if (zbest >= 0) {
-        res.likelihood_reference = effect_name(o.effects[zbest]);
-        res.likelihood_reference_rmse_m = zfit.rmse();
-        res.likelihood_reference_zeroed = true;
-        report("analysis", "all gliders: " + effect_name(o.effects[zbest]) +
-                               "'s fit with its values at 0 explains the flights better than the baseline's fit (RMSE " +
-                               cm_against(zfit.rmse(), base_full.rmse()) + "): the likelihood ratios are measured from it",
-               false);
-        for (int e = 0; e < ne; ++e)
-          set_likelihood_ratio(res.effects[e], o.effects[e], zfit.sse - eff_full[e].sse, eff_full[e].sse);
-        ref = -1;  // set
       }
       timings["zeroed_reference_s"] = since(tz);
     }
-    if (ref >= 0) {
-      res.likelihood_reference = effect_name(o.effects[ref]);
-      res.likelihood_reference_rmse_m = eff_full[ref].rmse();
-      report("analysis", "all gliders: " + res.likelihood_reference + " fitted at 0 (the baseline model) with its centre "
-                         "values re-tuned explains the flights better than the baseline's fit (RMSE " +
-                         cm_against(eff_full[ref].rmse(), base_full.rmse()) + "): the likelihood ratios are measured from that fit",
+    if (ref_effect >= 0) {
+      res.likelihood_reference = effect_name(o.effects[ref_effect]);
+      res.likelihood_reference_rmse_m = ref_rmse;
+      res.likelihood_reference_zeroed = zeroed;
+      report("analysis", "all gliders: " + res.likelihood_reference +
+                             (zeroed ? "'s fit with its values at 0 (the baseline model), launches refitted,"
+                                     : " fitted at 0 (the baseline model) with its centre values re-tuned") +
+                             " explains the flights better than the baseline's fit (RMSE " +
+                             cm_against(ref_rmse, base_full.rmse()) + "): the likelihood ratios are measured from that fit",
              false);
       for (int e = 0; e < ne; ++e)
-        set_likelihood_ratio(res.effects[e], o.effects[e], eff_full[ref].sse - eff_full[e].sse, eff_full[e].sse);
+        set_likelihood_ratio(res.effects[e], o.effects[e], ref_sse - eff_full[e].sse, eff_full[e].sse);
     }
   }
   // The decision rule (decision_rule), the same in both rounds.
@@ -3412,16 +3407,15 @@ StabilityCheck check_stability(const Dataset& d, const DiagnoseOptions& o, const
   std::string steps;
   for (std::size_t k = 1; k < out.runs.size(); ++k) steps += (k > 1 ? ", " : "") + ms(out.runs[k].dt_s);
   const std::string n = std::to_string(out.runs.size());
+  out.sentence = "Re-run with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
+                 "), the verdict was " + first.verdict;
   if (out.stable) {
-    out.sentence = "Re-run with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
-                   "), the verdict was " + first.verdict + " in all " + n + " runs.";
+    out.sentence += " in all " + n + " runs.";
   } else {
     std::string others;
     for (std::size_t i = 0; i < other.size(); ++i) others += (i ? "; " : "") + other[i];
-    out.sentence = "Re-run with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
-                   "), the verdict was " + first.verdict + " in only " + std::to_string(out.agree) + " of " + n +
-                   " runs (" + others +
-                   "): it turns on the search's path rather than on the data, so treat it as tentative.";
+    out.sentence += " in only " + std::to_string(out.agree) + " of " + n + " runs (" + others +
+                    "): it turns on the search's path rather than on the data, so treat it as tentative.";
   }
   return out;
 }

@@ -568,6 +568,28 @@ def test_stability_check_reruns_the_diagnosis_at_a_changed_step(tmp_path, camera
     assert ("tentative" in page) is (not same)
 
 
+def test_zeroed_reference_only_lowers_likelihood_ratios(tmp_path, camera_case):
+    """--zeroed-reference acts after every fit: it can only swap the
+    likelihood ratios' reference for a baseline-model fit that explains the
+    flights better, so every fit, shrink and verdict-free quantity stays as
+    in the plain diagnosis, and no effect's delta chi2 can grow."""
+    ds, plain, _, _ = camera_case
+    out = tmp_path / "zr.json"
+    r = run(["diagnose", ds, "--json", out, "--zeroed-reference"] + FAST)
+    assert r.returncode == 0, r.stderr[-3000:]
+    j = load(out)
+    assert j["options"]["zeroed_reference"] is True
+    before = {e["name"]: e for e in plain["effects"]}
+    for e in j["effects"]:
+        b = before[e["name"]]
+        assert e["fit_rmse_m"] == b["fit_rmse_m"] and e["holdout_rmse_m"] == b["holdout_rmse_m"]
+        assert e["likelihood_ratio"]["delta_chi2"] <= b["likelihood_ratio"]["delta_chi2"] + 1e-9, e["name"]
+    ref = j.get("likelihood_reference")
+    if ref is not None and ref["zeroed"]:
+        assert ref["fit_rmse_m"] < j["baseline"]["fit_rmse_m"]
+    assert "with its values at 0, launches refitted" in r.stderr
+
+
 def test_python_call_refuses_a_bad_stability(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "d", "baseline")
