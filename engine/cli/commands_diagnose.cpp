@@ -119,7 +119,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--no-launch-withhold", "--no-launch-rates-confirm",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--leader-start", "--no-leader-start",
-                             "--heldout-steps", "--no-heldout-steps", "--heldout-fold-start", "--zeroed-reference", "--theory-starts", "--no-theory-starts",
+                             "--heldout-steps", "--no-heldout-steps", "--heldout-fold-start", "--zeroed-reference", "--no-zeroed-reference", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight",
                              "--no-unstepped-refit"});
@@ -165,7 +165,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
     throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
   o.heldout_steps = !a.flag("--no-heldout-steps");
   o.heldout_fold_start = a.flag("--heldout-fold-start");
-  o.zeroed_reference = a.flag("--zeroed-reference");
+  if (a.flag("--zeroed-reference") && a.flag("--no-zeroed-reference"))
+    throw InputError("--zeroed-reference and --no-zeroed-reference contradict each other");
+  o.zeroed_reference = !a.flag("--no-zeroed-reference");
   if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
     throw InputError("--theory-starts and --no-theory-starts contradict each other");
   o.theory_starts = a.flag("--theory-starts");
@@ -350,9 +352,10 @@ const bool registered_diagnose = register_command(
          "                          verdict is the first run's; N times as long; docs)\n"
          "  --heldout-fold-start    such a refit also starts at the mean of the folds' fitted\n"
          "                          strengths, switched on in steps (experimental: docs)\n"
-         "  --zeroed-reference      the likelihood ratios' reference also considers each\n"
-         "                          candidate's fit with its values at 0, launches refitted\n"
-         "                          (experimental: docs)\n"
+         "  --no-zeroed-reference   by default the likelihood ratios' reference also considers\n"
+         "                          each candidate's fit with its values at 0, launches refitted\n"
+         "                          (docs); with this option only candidates fitted exactly at 0\n"
+         "                          are; --zeroed-reference: the default, explicitly\n"
          "  --theory-starts         every aerodynamic correction also starts at its theoretical\n"
          "                          size (strength 1, reached in quarter steps) with the centre\n"
          "                          values refitted with it (experimental: docs);\n"

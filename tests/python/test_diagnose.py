@@ -371,7 +371,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["refit_unstepped"] is True  # on by default since 2026-11-30
     assert camera_case[1]["options"]["heldout_steps"] is True  # on by default since 2026-11-29
     assert camera_case[1]["options"]["heldout_fold_start"] is False  # experimental, off by default
-    assert camera_case[1]["options"]["zeroed_reference"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["zeroed_reference"] is True  # on by default since 2026-12-02
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
     assert camera_case[1]["options"]["hold_theory"] is False  # experimental, off by default
     # the second search is off by default and did not run (the verdict is the camera)
@@ -569,25 +569,28 @@ def test_stability_check_reruns_the_diagnosis_at_a_changed_step(tmp_path, camera
 
 
 def test_zeroed_reference_only_lowers_likelihood_ratios(tmp_path, camera_case):
-    """--zeroed-reference acts after every fit: it can only swap the
-    likelihood ratios' reference for a baseline-model fit that explains the
-    flights better, so every fit, shrink and verdict-free quantity stays as
-    in the plain diagnosis, and no effect's delta chi2 can grow."""
-    ds, plain, _, _ = camera_case
-    out = tmp_path / "zr.json"
-    r = run(["diagnose", ds, "--json", out, "--zeroed-reference"] + FAST)
+    """The zeroed reference (on by default) acts after every fit: it can
+    only swap the likelihood ratios' reference for a baseline-model fit that
+    explains the flights better, so against a --no-zeroed-reference run
+    every fit, shrink and verdict-free quantity stays the same, and no
+    effect's delta chi2 is larger with it."""
+    ds, plain, _, camera_r = camera_case
+    out = tmp_path / "nz.json"
+    r = run(["diagnose", ds, "--json", out, "--no-zeroed-reference"] + FAST)
     assert r.returncode == 0, r.stderr[-3000:]
     j = load(out)
-    assert j["options"]["zeroed_reference"] is True
-    before = {e["name"]: e for e in plain["effects"]}
-    for e in j["effects"]:
-        b = before[e["name"]]
+    assert j["options"]["zeroed_reference"] is False
+    assert plain["options"]["zeroed_reference"] is True
+    without = {e["name"]: e for e in j["effects"]}
+    for e in plain["effects"]:
+        b = without[e["name"]]
         assert e["fit_rmse_m"] == b["fit_rmse_m"] and e["holdout_rmse_m"] == b["holdout_rmse_m"]
         assert e["likelihood_ratio"]["delta_chi2"] <= b["likelihood_ratio"]["delta_chi2"] + 1e-9, e["name"]
-    ref = j.get("likelihood_reference")
+    ref = plain.get("likelihood_reference")
     if ref is not None and ref["zeroed"]:
-        assert ref["fit_rmse_m"] < j["baseline"]["fit_rmse_m"]
-    assert "with its values at 0, launches refitted" in r.stderr
+        assert ref["fit_rmse_m"] < plain["baseline"]["fit_rmse_m"]
+    assert "with its values at 0, launches refitted" in camera_r.stderr
+    assert "with its values at 0, launches refitted" not in r.stderr
 
 
 def test_python_call_refuses_a_bad_stability(tmp_path):
@@ -618,6 +621,7 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--plausible", "camera=0.05:-3"], "not a positive size"),
     (["diagnose", "DS", "--json", "OUT", "--plausible", "wind=calm"], "not a number"),
     (["diagnose", "DS", "--json", "OUT", "--profile", "--no-profile"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--zeroed-reference", "--no-zeroed-reference"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
     (["diagnose", "DS", "--json", "OUT", "--profiled-candidates", "-1"], "--profiled-candidates"),
     (["diagnose", "DS", "--json", "OUT", "--carry-steps", "--no-carry-steps"], "contradict"),

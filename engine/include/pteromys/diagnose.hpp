@@ -242,7 +242,7 @@ struct DiagnoseOptions {
   /// damping s33 at a 2.1 ms step (0.588 from the folds' mean 0.415). Not
   /// made on any of the 43 null runs with it (docs/diagnosis.md).
   bool heldout_fold_start = false;
-  /// (experimental, off by default; 2026-12-02) The likelihood ratios'
+  /// (on by default since 2026-12-02, experimental before) The likelihood ratios'
   /// reference also considers each candidate's own fit to all gliders with
   /// its values set to 0 and the launches refitted there: a baseline-model
   /// fit, taken as the reference when it explains the flights better than
@@ -251,7 +251,7 @@ struct DiagnoseOptions {
   /// baseline's (null seed 212 at a 2.1 ms step: a wind of -0.0018 m/s with
   /// a likelihood-ratio delta chi2 of 99.9, where such a wind accounts for
   /// about 19 at most). Without it only candidates fitted exactly at 0 are.
-  bool zeroed_reference = false;
+  bool zeroed_reference = true;
   /// Theoretical-size starts (profiled fits only): every aerodynamic
   /// correction is also started at strength 1, reached as the oracle's
   /// effects are (a quarter, a half, ... of it, the launches and trims

@@ -23,7 +23,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
-             heldout_steps=True, heldout_fold_start=False, zeroed_reference=False, escalate=False,
+             heldout_steps=True, heldout_fold_start=False, zeroed_reference=True, escalate=False,
              prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, leader_reached=0.5,
              theory_starts=False,
              hold_theory=False, step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0,
@@ -65,6 +65,10 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``heldout_steps`` (default True): a candidate the held-out gliders
     confirm but whose gain on all gliders was under the screen is refitted
     from its linearised step there before its likelihood-ratio test.
+    ``zeroed_reference`` (default True): the likelihood ratios' reference
+    also considers each candidate's fit to all gliders with its values set
+    to 0 and the launches refitted (a baseline-model fit), not only those
+    fitted exactly at 0.
     ``escalate`` (default False): when the first search leaves a real gap
     unexplained, search again with every aerodynamic correction also
     started at its theoretical size (several times slower).
@@ -73,12 +77,12 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     significant one that is not predicts the held-out gliders not
     significantly worse (paired over gliders), the verdict names the latter
     (result key ``passed_over``).
-    ``step_alpha``, ``carry_steps``, ``leader_start``, ``leader_reached``, ``heldout_fold_start``, ``zeroed_reference``, ``theory_starts``,
+    ``step_alpha``, ``carry_steps``, ``leader_start``, ``leader_reached``, ``heldout_fold_start``, ``theory_starts``,
     ``hold_theory``,
     ``step_per_flight``, ``refit_unstepped``, ``oracle`` (e.g.
     ``"finite_span=1"``) and ``plausible`` (e.g. ``"camera=0.05:3"``) are
     the CLI's ``--step-alpha``, ``--carry-steps``/``--no-carry-steps``, ``--no-leader-start``,
-    ``--leader-reached``, ``--heldout-fold-start``, ``--zeroed-reference``,
+    ``--leader-reached``, ``--heldout-fold-start``,
     ``--theory-starts``, ``--hold-theory``, ``--step-per-flight``,
     ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
     (docs/diagnosis.md, *Using it*).
