@@ -41,6 +41,14 @@ std::vector<Effect> parse_effect_list(const std::string& s) {
   return out;
 }
 
+// An on/off pair of flags (--NAME, --no-NAME): both given contradict each
+// other; neither keeps the default.
+bool on_off(const Args& a, const std::string& name, bool def) {
+  const std::string on = "--" + name, off = "--no-" + name;
+  if (a.flag(on) && a.flag(off)) throw InputError(on + " and " + off + " contradict each other");
+  return a.flag(on) || (def && !a.flag(off));
+}
+
 bool exists(const std::string& p) {
   struct stat st {};
   return stat(p.c_str(), &st) == 0;
@@ -149,37 +157,20 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.launch_withhold = !a.flag("--no-launch-withhold");
   o.launch_rates_confirm = !a.flag("--no-launch-rates-confirm");
   o.prefer_identifiable = a.flag("--prefer-identifiable");
-  if (a.flag("--profile") && a.flag("--no-profile")) throw InputError("--profile and --no-profile contradict each other");
-  o.profile = !a.flag("--no-profile");
-  if (a.flag("--carry-steps") && a.flag("--no-carry-steps"))
-    throw InputError("--carry-steps and --no-carry-steps contradict each other");
-  o.carry_steps = !a.flag("--no-carry-steps");
-  if (a.flag("--leader-start") && a.flag("--no-leader-start"))
-    throw InputError("--leader-start and --no-leader-start contradict each other");
-  o.leader_start = !a.flag("--no-leader-start");
+  o.profile = on_off(a, "profile", o.profile);
+  o.carry_steps = on_off(a, "carry-steps", o.carry_steps);
+  o.leader_start = on_off(a, "leader-start", o.leader_start);
   if (a.has("--leader-reached")) {
     o.leader_reached = a.number("--leader-reached", o.leader_reached);
     if (!(o.leader_reached >= 0)) throw InputError("--leader-reached must not be negative");
   }
-  if (a.flag("--heldout-steps") && a.flag("--no-heldout-steps"))
-    throw InputError("--heldout-steps and --no-heldout-steps contradict each other");
-  o.heldout_steps = !a.flag("--no-heldout-steps");
+  o.heldout_steps = on_off(a, "heldout-steps", o.heldout_steps);
   o.heldout_fold_start = a.flag("--heldout-fold-start");
-  if (a.flag("--zeroed-reference") && a.flag("--no-zeroed-reference"))
-    throw InputError("--zeroed-reference and --no-zeroed-reference contradict each other");
-  o.zeroed_reference = !a.flag("--no-zeroed-reference");
-  if (a.flag("--theory-starts") && a.flag("--no-theory-starts"))
-    throw InputError("--theory-starts and --no-theory-starts contradict each other");
-  o.theory_starts = a.flag("--theory-starts");
-  if (a.flag("--hold-theory") && a.flag("--no-hold-theory"))
-    throw InputError("--hold-theory and --no-hold-theory contradict each other");
-  o.hold_theory = a.flag("--hold-theory");
-  if (a.flag("--escalate") && a.flag("--no-escalate"))
-    throw InputError("--escalate and --no-escalate contradict each other");
-  o.escalate = a.flag("--escalate");
-  if (a.flag("--step-per-flight") && a.flag("--no-step-per-flight"))
-    throw InputError("--step-per-flight and --no-step-per-flight contradict each other");
-  o.step_per_flight = a.flag("--step-per-flight");
+  o.zeroed_reference = on_off(a, "zeroed-reference", o.zeroed_reference);
+  o.theory_starts = on_off(a, "theory-starts", o.theory_starts);
+  o.hold_theory = on_off(a, "hold-theory", o.hold_theory);
+  o.escalate = on_off(a, "escalate", o.escalate);
+  o.step_per_flight = on_off(a, "step-per-flight", o.step_per_flight);
   o.refit_unstepped = !a.flag("--no-unstepped-refit");
   o.alpha = a.number("--alpha", o.alpha);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("--alpha must be in (0, 1)");
