@@ -234,6 +234,27 @@ def launch_withheld(r):
     return False
 
 
+DOMINANCE = 5.0  # DiagnoseOptions::launch_withhold_dominance
+
+
+def launch_dominance(r, effect):
+    """The launch withhold's exemption (launch_dominance in the engine) on
+    a stored result: the shares of the baseline's all-glider misfit that
+    `effect` and launch rotation close (1 - fit_rmse_m / baseline
+    fit_rmse_m), or None when a figure is missing."""
+    base = r.get("baseline", {}).get("fit_rmse_m")
+    fit = {e["name"]: e.get("fit_rmse_m") for e in r.get("effects", [])}
+    if not base or fit.get(effect) is None or fit.get("launch_rotation") is None:
+        return None
+    return 1 - fit[effect] / base, 1 - fit["launch_rotation"] / base
+
+
+def dominates(gains, k=DOMINANCE):
+    """Whether the session-wide effect's share exceeds k times launch
+    rotation's (the engine's rule; k 0 never exempts)."""
+    return gains is not None and k > 0 and gains[0] > 0 and gains[0] > k * max(gains[1], 0.0)
+
+
 def launch_verdict(r):
     """The verdict of a stored result under the launch rules of 2026-11-30
     (launch_rates_confirm and launch_withhold, as in the engine): launch
@@ -352,6 +373,23 @@ def main(argv=None):
     for c in held:
         print("  withheld: %s [%s]: %s" % (c[1], c[4].get("bench_commit", "?"),
                                           c[4].get("withheld", {}).get("effect", c[4]["verdict"])))
+    # The exemption (2026-12-03, launch_withhold_dominance): a withheld
+    # verdict whose all-glider fit closes more than DOMINANCE times launch
+    # rotation's share of the baseline's misfit stands.
+    print("\nlaunch withhold's exemption (the withheld effect's share of the baseline's all-glider misfit over "
+          "launch rotation's; more than %g: not withheld):" % DOMINANCE)
+    for c in held:
+        eff = c[4].get("withheld", {}).get("effect", c[4]["verdict"])
+        g = launch_dominance(c[4], eff)
+        if g is None:
+            print("  %s [%s]: %s: no fit RMSEs stored" % (c[1], c[4].get("bench_commit", "?"), eff))
+            continue
+        print("  %s [%s]: %s %.2f %% against launch rotation's %.2f %% (%s times): %s" % (
+            c[1], c[4].get("bench_commit", "?"), eff, 100 * g[0], 100 * g[1],
+            "%.2f" % (g[0] / g[1]) if g[1] > 0 else "inf",
+            ("named, " + ("right" if eff in c[2] else "wrong")) if dominates(g) else "withheld"))
+    if not held:
+        print("  none withheld")
     # Both launch rules (launch_verdict): every verdict that changes.
     print("\nlaunch rules of 2026-11-30 (rates confirm launch rotation; the withhold), verdicts that change:")
     changed = [(c, launch_verdict(c[4])) for c in cases]

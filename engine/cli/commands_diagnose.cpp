@@ -120,7 +120,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--plausible", "--profile-min-gliders",
                                         "--profiled-candidates", "--step-alpha", "--leader-reached",
-                                        "--stability"};
+                                        "--stability", "--launch-withhold-dominance"};
   const Args a = parse_args(argv, valued,
                             {"--quiet", "--no-trim", "--no-full-fit", "--no-holdout-test", "--no-second-round",
                              "--profile", "--no-profile", "--no-glider-guard", "--no-bound-guard",
@@ -155,6 +155,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.glider_guard = !a.flag("--no-glider-guard");
   o.bound_guard = !a.flag("--no-bound-guard");
   o.launch_withhold = !a.flag("--no-launch-withhold");
+  o.launch_withhold_dominance = a.number("--launch-withhold-dominance", o.launch_withhold_dominance);
+  if (!(o.launch_withhold_dominance >= 0) || !std::isfinite(o.launch_withhold_dominance))
+    throw InputError("--launch-withhold-dominance must be a finite number >= 0 (0: always withhold)");
   o.launch_rates_confirm = !a.flag("--no-launch-rates-confirm");
   o.prefer_identifiable = a.flag("--prefer-identifiable");
   o.profile = on_off(a, "profile", o.profile);
@@ -381,6 +384,10 @@ const bool registered_diagnose = register_command(
          "                          default such a verdict is withheld, `unexplained`, with the\n"
          "                          effect under \"withheld\": a launch habit can imitate it;\n"
          "                          launch rotation is named instead when significant)\n"
+         "  --launch-withhold-dominance K  do not withhold such a verdict when its fit to all\n"
+         "                          gliders closes more than K times the share of the baseline's\n"
+         "                          misfit that launch rotation's closes (default 5; 0: always\n"
+         "                          withhold)\n"
          "  --no-launch-rates-confirm  hold per-flight launch rotation to the shrink margin (by\n"
          "                          default its held-out rates sharing a direction confirm it,\n"
          "                          with any held-out shrink above zero)\n"

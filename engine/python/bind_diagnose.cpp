@@ -1,6 +1,7 @@
 // Bindings: the sim-to-real diagnosis (diagnose.hpp) and its candidate effects
 // (effects.hpp). The Python wrappers with keyword documentation are in
 // pteromys/diagnose.py.
+#include <cmath>
 #include <optional>
 
 #include <pybind11/functional.h>
@@ -93,6 +94,11 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (kw.contains("glider_guard")) o.glider_guard = kw["glider_guard"].cast<bool>();
   if (kw.contains("bound_guard")) o.bound_guard = kw["bound_guard"].cast<bool>();
   if (kw.contains("launch_withhold")) o.launch_withhold = kw["launch_withhold"].cast<bool>();
+  if (kw.contains("launch_withhold_dominance")) {
+    o.launch_withhold_dominance = num("launch_withhold_dominance", o.launch_withhold_dominance);
+    if (!(o.launch_withhold_dominance >= 0) || !std::isfinite(o.launch_withhold_dominance))
+      throw InputError("launch_withhold_dominance must be a finite number >= 0 (0: always withhold)");
+  }
   if (kw.contains("launch_rates_confirm")) o.launch_rates_confirm = kw["launch_rates_confirm"].cast<bool>();
   if (kw.contains("prefer_identifiable")) o.prefer_identifiable = kw["prefer_identifiable"].cast<bool>();
   if (kw.contains("carry_steps")) o.carry_steps = kw["carry_steps"].cast<bool>();

@@ -592,11 +592,29 @@ const EffectResult* launch_rotation_that_fits(const std::vector<EffectResult>& e
 }
 }  // namespace
 
-std::string launch_withheld(const std::vector<EffectResult>& effects, const std::string& verdict, double alpha) {
+LaunchDominance launch_dominance(const std::vector<EffectResult>& effects, const std::string& verdict,
+                                 double baseline_fit_rmse_m, double dominance) {
+  LaunchDominance d;
+  const auto v = std::find_if(effects.begin(), effects.end(), [&](const EffectResult& r) { return r.name == verdict; });
+  const auto lr = std::find_if(effects.begin(), effects.end(),
+                               [](const EffectResult& r) { return r.effect == Effect::LaunchRotation; });
+  if (v == effects.end() || lr == effects.end() || !(dominance > 0) || !(baseline_fit_rmse_m > 0)) return d;
+  d.applies = true;
+  d.verdict_gain = 1 - v->fit_rmse_m / baseline_fit_rmse_m;
+  d.launch_gain = 1 - lr->fit_rmse_m / baseline_fit_rmse_m;
+  d.dominates = d.verdict_gain > 0 && d.verdict_gain > dominance * std::max(d.launch_gain, 0.0);
+  return d;
+}
+
+std::string launch_withheld(const std::vector<EffectResult>& effects, const std::string& verdict, double alpha,
+                            double baseline_fit_rmse_m, double dominance) {
   const auto v = std::find_if(effects.begin(), effects.end(), [&](const EffectResult& r) { return r.name == verdict; });
   if (v == effects.end()) return {};  // none, unexplained
   const EffectLevel lv = effect_spec(v->effect).level;
   if (lv != EffectLevel::Session && lv != EffectLevel::Observation) return {};
+  // Far more of the training flights explained than launch rotation, with
+  // every flight's own rate, explains: not a launch habit's imitation.
+  if (launch_dominance(effects, verdict, baseline_fit_rmse_m, dominance).dominates) return {};
   for (const auto& r : effects)
     if (r.effect == Effect::LaunchRotation && r.significant) return r.name;
   return launch_rotation_that_fits(effects, alpha) ? "unexplained" : "";
@@ -612,8 +630,9 @@ std::string withheld_sentence(const std::vector<EffectResult>& effects, const st
       " A launcher's habitual rotation at release is taken up by each held-out flight's own rate, so launch "
       "rotation gains little there, while a correction applied alike to every flight carries the habit over to the "
       "held-out gliders: on the blind benchmark to 2026-11-30 wind or the camera was so named on 4 of 4 "
-      "launch-rotation datasets where launch rotation fitted this way, and on no dataset of another effect "
-      "(docs/diagnosis.md, The launch withhold).";
+      "launch-rotation datasets where launch rotation fitted this way, and on no dataset of another effect; "
+      "its fit to all gliders closed at most a few times launch rotation's share of the training misfit, not "
+      "more than the exemption's factor (docs/diagnosis.md, The launch withhold).";
   const std::string cause = "left the hand without pitching, " + withheld +
                             " is the likely cause (--no-launch-withhold names it).";
   if (lr->significant)
@@ -628,6 +647,18 @@ std::string withheld_sentence(const std::vector<EffectResult>& effects, const st
          describe_parameters(lr->effect, lr->parameters) + "), the flights' own rates turning one way, yet closes " +
          (lr->shrink < margin ? "only " : "") + pct(lr->shrink) + " of the held-out error." + why +
          " Check how the gliders were launched: if they " + cause;
+}
+
+std::string launch_dominance_sentence(const std::vector<EffectResult>& effects, const std::string& verdict,
+                                     double alpha, double baseline_fit_rmse_m, double dominance) {
+  if (launch_withheld(effects, verdict, alpha).empty()) return {};  // the withhold would not have applied
+  const LaunchDominance d = launch_dominance(effects, verdict, baseline_fit_rmse_m, dominance);
+  if (!d.dominates) return {};
+  return " " + verdict + " is named though launch rotation fits the training flights too: fitted to all gliders it "
+         "closes " + pct(d.verdict_gain) + " of the baseline's misfit there, launch rotation " + pct(d.launch_gain) +
+         ", more than " + fmt(dominance, 3) + " times as much. A launch habit, fitted flight by flight, would explain "
+         "the training flights about as well as a correction applied alike to every flight, so " + verdict +
+         " is not its imitation (--launch-withhold-dominance 0 withholds it).";
 }
 
 std::string launch_caution(const std::vector<EffectResult>& effects, const std::string& verdict, double margin,
@@ -2826,7 +2857,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // verdict beside a launch rotation that is significant, or that fits the
   // training flights, gives way to it or to `unexplained`. What the second
   // round said was said of it, so goes with it.
-  if (const std::string to = o.launch_withhold ? launch_withheld(res.effects, res.verdict, o.alpha) : "";
+  if (const std::string to = o.launch_withhold ? launch_withheld(res.effects, res.verdict, o.alpha, res.fit_rmse_m,
+                                                                 o.launch_withhold_dominance)
+                                               : "";
       !to.empty()) {
     report("analysis", res.verdict + " is withheld: launch rotation fits the training flights too, with the rates "
                        "turning one way (a launch habit a session-wide correction can imitate); the verdict is " +
@@ -2839,6 +2872,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     res.alternatives.clear();
     res.replaced.clear();
     res.passed_over.clear();
+  } else if (o.launch_withhold && !launch_withheld(res.effects, res.verdict, o.alpha).empty()) {
+    const LaunchDominance d = launch_dominance(res.effects, res.verdict, res.fit_rmse_m, o.launch_withhold_dominance);
+    report("analysis", res.verdict + " is not withheld: on all gliders it closes " + pct(d.verdict_gain) +
+                       " of the baseline's misfit, launch rotation " + pct(d.launch_gain) + " (more than " +
+                       fmt(o.launch_withhold_dominance, 3) + " times as much)", false);
   }
 
   for (std::size_t i = 0; i < res.effects.size(); ++i) {
@@ -3048,7 +3086,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     // candidate predicts better (blind finite-span data: the canard, 4.9 cm
     // held out, 13 times the noise, with every candidate): the gap is the
     // model's carrying over to that geometry, not an effect of all flights.
-    if (res.withheld.empty()) s << launch_caution(res.effects, res.verdict, o.min_shrink, o.alpha);
+    if (res.withheld.empty())
+      s << launch_caution(res.effects, res.verdict, o.min_shrink, o.alpha)
+        << (o.launch_withhold ? launch_dominance_sentence(res.effects, res.verdict, o.alpha, res.fit_rmse_m,
+                                                          o.launch_withhold_dominance)
+                              : "");
     if (res.verdict != "none") s << dominant_glider_sentence(res.where, res.effects);
     if (res.where["whiteness"]["structured"].get<bool>() && res.verdict != "none")
       s << " The baseline's residuals drift systematically along each flight rather than scattering like noise.";
@@ -3308,6 +3350,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"glider_guard", o.glider_guard},
                   {"bound_guard", o.bound_guard},
                   {"launch_withhold", o.launch_withhold},
+                  {"launch_withhold_dominance", o.launch_withhold_dominance},
                   {"launch_rates_confirm", o.launch_rates_confirm},
                   {"prefer_identifiable", o.prefer_identifiable},
                   {"none_tolerance", o.none_tolerance},

@@ -1918,6 +1918,87 @@ TEST(DiagnoseStatistics, ASessionWideVerdictIsWithheldWhenLaunchRotationFitsTheL
   EXPECT_NE(s.find("If the gliders left the hand without pitching, wind is the likely cause"), std::string::npos) << s;
 }
 
+// The launch withhold's exemption (launch_dominance,
+// DiagnoseOptions::launch_withhold_dominance): a session-wide verdict whose
+// all-glider fit closes more than K times launch rotation's share of the
+// baseline's training misfit stands. Fit RMSEs of three stored blind runs
+// (bench/diagnosis/runs); the shares worked out by hand, 1 - fit / baseline:
+// wind s22 (ba2fc55, wind the truth): baseline 4.3998 cm, wind 1.5597 cm,
+// launch rotation 4.3377 cm: 64.55 % and 1.411 %, 45.7 times;
+// launch rotation s44 (06074dd): baseline 1.44419 cm, wind 1.3842 cm,
+// launch rotation 1.41715 cm: 4.154 % and 1.872 %, 2.22 times;
+// launch rotation s33 (ba2fc55): baseline 1.54752 cm, camera 1.5196 cm,
+// launch rotation (significant) 1.51041 cm: 1.804 % and 2.398 %, 0.75 times.
+TEST(DiagnoseStatistics, ASessionWideVerdictFarBetterThanLaunchRotationOnTheTrainingFlightsIsNotWithheld) {
+  EffectResult lr = s34_launch_rotation();  // passed its test, not significant, rates' p 0.0021
+  EffectResult wind = s34_wind();
+  wind.shrink = 0.601;
+  wind.parameters = {-0.92};
+  double base = 0.043998;
+  wind.fit_rmse_m = 0.015597;
+  lr.fit_rmse_m = 0.043377;
+  std::vector<EffectResult> v = {wind, lr};
+  LaunchDominance d = launch_dominance(v, "wind", base, 5.0);
+  EXPECT_TRUE(d.applies);
+  EXPECT_NEAR(d.verdict_gain, 0.6455, 1e-4);
+  EXPECT_NEAR(d.launch_gain, 0.01411, 1e-5);
+  EXPECT_TRUE(d.dominates);
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 5.0), "");
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 45.0), "");
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 46.0), "unexplained");  // 45.7 times, not more than 46
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 0.0), "unexplained");   // 0: the rule of 2026-11-30
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01), "unexplained");
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, 0.0, 5.0), "unexplained");  // no baseline RMSE: no exemption
+  std::string s = launch_dominance_sentence(v, "wind", 0.01, base, 5.0);
+  EXPECT_EQ(s.rfind(" wind is named though launch rotation fits the training flights too: fitted to all gliders it "
+                    "closes 65 % of the baseline's misfit there, launch rotation 1.4 %, more than 5 times as much.",
+                    0),
+            0u)
+      << s;
+  EXPECT_NE(s.find("--launch-withhold-dominance 0 withholds it"), std::string::npos) << s;
+  EXPECT_EQ(launch_dominance_sentence(v, "wind", 0.01, base, 46.0), "");  // withheld: no such sentence
+  // An aerodynamic verdict is never withheld, so nothing is said of it.
+  EffectResult pd = wind;
+  pd.effect = Effect::PitchDamping;
+  pd.name = "pitch_damping";
+  EXPECT_EQ(launch_dominance_sentence({pd, lr}, "pitch_damping", 0.01, base, 5.0), "");
+  // Launch rotation's rates scattered both ways: the withhold does not apply,
+  // so neither does the sentence.
+  v[1].rate_mean_p = 0.45;
+  EXPECT_EQ(launch_dominance_sentence(v, "wind", 0.01, base, 5.0), "");
+
+  // Launch rotation s44: the wind only 2.2 times: withheld at 5, not at 2.
+  base = 0.0144419;
+  wind.fit_rmse_m = 0.013842;
+  lr.fit_rmse_m = 0.0141715;
+  v = {wind, lr};
+  d = launch_dominance(v, "wind", base, 5.0);
+  EXPECT_NEAR(d.verdict_gain, 0.04154, 1e-5);
+  EXPECT_NEAR(d.launch_gain, 0.01872, 1e-5);
+  EXPECT_FALSE(d.dominates);
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 5.0), "unexplained");
+  EXPECT_EQ(launch_dominance_sentence(v, "wind", 0.01, base, 5.0), "");
+  EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 2.0), "");
+
+  // Launch rotation s33: significant and fitting better than the camera:
+  // it takes the verdict.
+  base = 0.0154752;
+  EffectResult camera = s34_wind();
+  camera.effect = Effect::Camera;
+  camera.name = "camera";
+  camera.fit_rmse_m = 0.0151960;
+  lr.fit_rmse_m = 0.0151041;
+  lr.significant = true;
+  v = {camera, lr};
+  d = launch_dominance(v, "camera", base, 5.0);
+  EXPECT_NEAR(d.verdict_gain, 0.01804, 1e-5);
+  EXPECT_NEAR(d.launch_gain, 0.02398, 1e-5);
+  EXPECT_FALSE(d.dominates);
+  EXPECT_EQ(launch_withheld(v, "camera", 0.01, base, 5.0), "launch_rotation");
+  // Without launch rotation among the candidates there is nothing to compare.
+  EXPECT_FALSE(launch_dominance({camera}, "camera", base, 5.0).applies);
+}
+
 // The shrink margin (shrink_margin): every effect is held to
 // DiagnoseOptions::min_shrink except per-flight launch rotation while its
 // rates confirm it (launch_rates_confirm); a launch rotation common to the

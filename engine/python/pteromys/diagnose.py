@@ -23,6 +23,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
+             launch_withhold_dominance=5.0,
              heldout_steps=True, heldout_fold_start=False, zeroed_reference=True, escalate=False,
              prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, leader_reached=0.5,
              theory_starts=False,
@@ -59,6 +60,11 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     way) but is not significant is withheld: the verdict is "unexplained"
     and result key ``withheld`` names the effect; when launch rotation is
     significant it is the verdict instead.
+    ``launch_withhold_dominance`` (default 5.0): such a verdict is not
+    withheld when its fit to all gliders closes more than this many times
+    the share of the baseline's misfit that launch rotation's closes (a
+    launch habit, fitted flight by flight, would explain the training
+    flights about as well as its imitation); 0 always withholds.
     ``launch_rates_confirm`` (default True): per-flight launch rotation is
     confirmed by its held-out rates sharing a direction, with any held-out
     shrink above zero, rather than held to ``min_shrink``.
@@ -105,6 +111,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 profile_min_gliders=profile_min_gliders, profiled_candidates=profiled_candidates,
                 glider_guard=bool(glider_guard), bound_guard=bool(bound_guard),
                 launch_withhold=bool(launch_withhold), launch_rates_confirm=bool(launch_rates_confirm),
+                launch_withhold_dominance=float(launch_withhold_dominance),
                 heldout_steps=bool(heldout_steps), heldout_fold_start=bool(heldout_fold_start),
                 zeroed_reference=bool(zeroed_reference),
                 escalate=bool(escalate),
