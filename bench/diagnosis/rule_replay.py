@@ -255,6 +255,19 @@ def dominates(gains, k=DOMINANCE):
     return gains is not None and k > 0 and gains[0] > 0 and gains[0] > k * max(gains[1], 0.0)
 
 
+def exemption_verdict(r):
+    """The verdict of a stored result under the withhold's exemption
+    (2026-12-02): a verdict the launch withhold took back whose all-glider
+    fit closes more than DOMINANCE times launch rotation's share of the
+    baseline's misfit is given back (the rule acts after every fit, so
+    this is what the run would have said with it); any other verdict, and
+    the verdicts of binaries with the exemption, as stored."""
+    w = r.get("withheld")
+    if not w or "launch_withhold_dominance" in r.get("options", {}):
+        return r.get("verdict")
+    return w["effect"] if dominates(launch_dominance(r, w["effect"])) else r.get("verdict")
+
+
 def launch_verdict(r):
     """The verdict of a stored result under the launch rules of 2026-11-30
     (launch_rates_confirm and launch_withhold, as in the engine): launch

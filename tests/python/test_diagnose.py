@@ -384,6 +384,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     # the launch withhold is on, and the camera's verdict was not withheld
     assert camera_case[1]["options"]["launch_withhold"] is True and "withheld" not in camera_case[1]
     assert camera_case[1]["options"]["launch_rates_confirm"] is True
+    assert camera_case[1]["options"]["launch_withhold_dominance"] == 5.0  # the withhold's exemption, since 2026-12-02
     assert camera_case[1]["options"]["prefer_identifiable"] is False  # experimental, off by default
     assert camera_case[1]["options"]["leader_reached"] == 0.5
     ds = _generate(tmp_path, "null", "baseline", seed=8)
@@ -392,7 +393,8 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
                                                "--no-carry-steps", "--no-leader-start", "--no-bound-guard",
                                                "--no-heldout-steps", "--heldout-fold-start",
                                                "--no-unstepped-refit", "--no-launch-withhold",
-                                               "--no-launch-rates-confirm", "--leader-reached", "100"])
+                                               "--no-launch-rates-confirm", "--leader-reached", "100",
+                                               "--launch-withhold-dominance", "2.5"])
     assert r.returncode == 0, r.stderr[-2000:]
     j = load(out)
     assert j["options"]["profile"] is False
@@ -407,6 +409,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert j["options"]["carry_steps"] is False
     assert j["options"]["leader_start"] is False
     assert j["options"]["leader_reached"] == 100
+    assert j["options"]["launch_withhold_dominance"] == 2.5
     assert j["options"]["refit_unstepped"] is False
     # null data: nothing significant, so nothing to pass over
     assert "passed_over" not in j
@@ -628,6 +631,8 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--leader-start", "--no-leader-start"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--leader-reached", "-0.5"], "--leader-reached"),
     (["diagnose", "DS", "--json", "OUT", "--leader-reached", "half"], "--leader-reached"),
+    (["diagnose", "DS", "--json", "OUT", "--launch-withhold-dominance", "-1"], "--launch-withhold-dominance"),
+    (["diagnose", "DS", "--json", "OUT", "--launch-withhold-dominance", "inf"], "--launch-withhold-dominance"),
     (["diagnose", "DS", "--json", "OUT", "--step-per-flight", "--no-step-per-flight"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--heldout-steps", "--no-heldout-steps"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--theory-starts", "--no-theory-starts"], "contradict"),
@@ -685,6 +690,14 @@ def test_python_call_accepts_every_option_the_engine_reads():
     assert {"folds", "refit_unstepped", "oracle", "threads"} <= read, read  # the pattern still finds them
     params = set(inspect.signature(pteromys.diagnose).parameters)
     assert read - params == set(), "read by the binding, not accepted by pteromys.diagnose"
+
+
+@pytest.mark.parametrize("value", [-1.0, float("nan"), float("inf")])
+def test_python_call_refuses_a_bad_launch_withhold_dominance(tmp_path, value):
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    with pytest.raises(Exception, match="launch_withhold_dominance must be a finite number >= 0"):
+        pteromys.diagnose(ds, folds=3, launch_withhold_dominance=value)
 
 
 @pytest.mark.parametrize("value", [-0.5, float("nan")])
