@@ -93,6 +93,13 @@ def test_verdict_agrees_with_the_significance_decisions(camera_case):
         assert j["withheld"]["effect"] in ("wind", "camera") and j["withheld"]["effect"] in sig
         assert j["verdict"] == ("launch_rotation" if "launch_rotation" in sig else "unexplained")
         assert j["also"] == [] and j["alternatives"] == []
+        # Its exemption (launch_withhold_dominance) did not hold: the withheld
+        # effect's share of the baseline's all-glider misfit is at most K
+        # times launch rotation's.
+        by = {e["name"]: e for e in j["effects"]}
+        base, k = j["baseline"]["fit_rmse_m"], j["options"]["launch_withhold_dominance"]
+        share = lambda n: 1 - by[n]["fit_rmse_m"] / base
+        assert not (k > 0 and share(j["withheld"]["effect"]) > max(k * share("launch_rotation"), 0))
     elif j["verdict"] in LIBRARY and "replaced" in j:
         # The second round replaced the first significant effect by one that
         # makes it superfluous (docs/diagnosis.md); both are significant alone.
