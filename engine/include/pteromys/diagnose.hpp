@@ -328,10 +328,10 @@ struct DiagnoseOptions {
   /// withheld (0: always withheld, the rule as of 2026-11-30). Launch
   /// rotation fits every training flight's own rate, so were a launch habit
   /// the cause it would fit the training flights about as well as any
-  /// session-wide imitation: on the blind launch-rotation datasets the
-  /// withheld effect closed 0.75 and 2.2 times launch rotation's share
-  /// (seeds 33, 44), the true wind of seed 22 46 times (64.5 % against
-  /// 1.4 %; docs/diagnosis.md, "The launch withhold").
+  /// session-wide imitation: on five blind launch-rotation runs the
+  /// withheld effect closed 0.36 to 2.2 times launch rotation's share
+  /// (seeds 33, 34, 36, 39, 44), the true wind of seed 22 46 times (64.5 %
+  /// against 1.4 %; docs/diagnosis.md, "The withhold's exemption").
   double launch_withhold_dominance = 5.0;
   /// Per-flight launch rotation is confirmed on the held-out gliders by its
   /// rate test (the held-out flights' own rates share a direction at
@@ -680,7 +680,7 @@ std::string launch_caution(const std::vector<EffectResult>& effects, const std::
 /// `baseline_fit_rmse_m` > 0, the verdict stands (empty) when its own
 /// all-glider fit closes more than `dominance` times launch rotation's
 /// share of that misfit (DiagnoseOptions::launch_withhold_dominance;
-/// launch_dominates_not).
+/// launch_dominance).
 std::string launch_withheld(const std::vector<EffectResult>& effects, const std::string& verdict, double alpha,
                             double baseline_fit_rmse_m = 0, double dominance = 0);
 /// The launch withhold's exemption: the shares of the baseline's
