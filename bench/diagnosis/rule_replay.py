@@ -219,9 +219,18 @@ def launch_withheld(r):
     camera, and launch rotation passed its likelihood-ratio test, is not
     significant and (per-flight rates) its rates' mean has p under alpha.
     A result of a binary with the withhold already carries it in
-    ``withheld``."""
+    ``withheld`` (and one that ran with it on and has none was not
+    withheld: since 2026-12-02 its exemption may have kept the verdict)."""
     if r.get("withheld"):
         return True
+    if r.get("options", {}).get("launch_withhold") is True:
+        return False
+    return old_rule(r)
+
+
+def old_rule(r):
+    """The withhold's condition without its exemption, on the stored
+    verdict and launch rotation's stored tests."""
     if r.get("verdict") not in SESSION_WIDE:
         return False
     alpha = r.get("options", {}).get("alpha", 0.01)
@@ -296,6 +305,9 @@ RULES = [("as built", built), ("held-out alone for collinear effects", heldout_f
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+", help="directories holding case directories (searched recursively)")
+    ap.add_argument("--plot-exemption", metavar="PNG",
+                    help="also draw the launch withhold's exemption: each withheld (or exempted) effect's share of "
+                         "the baseline's all-glider misfit against launch rotation's, with the factor's line")
     args = ap.parse_args(argv)
     cases = []
     seen = set()
@@ -391,9 +403,16 @@ def main(argv=None):
     # rotation's share of the baseline's misfit stands.
     print("\nlaunch withhold's exemption (the withheld effect's share of the baseline's all-glider misfit over "
           "launch rotation's; more than %g: not withheld):" % DOMINANCE)
-    for c in held:
+    # The runs the exemption looked at: those withheld, and those of a
+    # binary with the exemption whose verdict the withhold would have taken.
+    exempted = [c for c in cases if c not in held and "launch_withhold_dominance" in c[4].get("options", {}) and
+                old_rule(c[4])]
+    points = []
+    for c in held + exempted:
         eff = c[4].get("withheld", {}).get("effect", c[4]["verdict"])
         g = launch_dominance(c[4], eff)
+        if g is not None:
+            points.append((c[1], eff, g, bool(c[2]) and eff in c[2]))
         if g is None:
             print("  %s [%s]: %s: no fit RMSEs stored" % (c[1], c[4].get("bench_commit", "?"), eff))
             continue
@@ -401,8 +420,11 @@ def main(argv=None):
             c[1], c[4].get("bench_commit", "?"), eff, 100 * g[0], 100 * g[1],
             "%.2f" % (g[0] / g[1]) if g[1] > 0 else "inf",
             ("named, " + ("right" if eff in c[2] else "wrong")) if dominates(g) else "withheld"))
-    if not held:
+    if not held + exempted:
         print("  none withheld")
+    if args.plot_exemption:
+        plot_exemption(points, args.plot_exemption)
+        print("  plot: %s" % args.plot_exemption)
     # Both launch rules (launch_verdict): every verdict that changes.
     print("\nlaunch rules of 2026-11-30 (rates confirm launch rotation; the withhold), verdicts that change:")
     changed = [(c, launch_verdict(c[4])) for c in cases]
@@ -413,6 +435,37 @@ def main(argv=None):
     if not changed:
         print("  none")
     return 0
+
+
+def plot_exemption(points, path):
+    """The exemption's figure: launch rotation's share of the baseline's
+    all-glider misfit (x) against the session-wide effect's (y), log-log,
+    each run labelled, the true effect filled, with y = DOMINANCE * x."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    lo, hi = 0.005, 1.0
+    ax.plot([lo, hi], [DOMINANCE * lo, DOMINANCE * hi], "k--", lw=1,
+            label="%g times launch rotation's share (above: named)" % DOMINANCE)
+    ax.plot([lo, hi], [lo, hi], ":", color="0.6", lw=1, label="equal shares")
+    for name, eff, (gv, gl), true in points:
+        ax.plot(max(gl, lo), gv, "o", ms=7, mfc="C2" if true else "white", mec="C2" if true else "C3")
+        ax.annotate("%s (%s)" % (name.replace("launch_rotation", "LR").replace("-1-", " "), eff),
+                    (max(gl, lo), gv), textcoords="offset points", xytext=(5, 3), fontsize=7)
+    ax.plot([], [], "o", mfc="C2", mec="C2", label="the effect is the truth")
+    ax.plot([], [], "o", mfc="white", mec="C3", label="an imitation (truth: launch rotation)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(lo, 0.2)
+    ax.set_ylim(lo, hi)
+    ax.set_xlabel("launch rotation's share of the baseline's all-glider misfit")
+    ax.set_ylabel("the wind's or camera's share")
+    ax.set_title("The launch withhold's exemption (blind runs)", fontsize=10)
+    ax.legend(fontsize=7, loc="center right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def upper_bound(k, n, conf=0.95):

@@ -525,9 +525,11 @@ def test_the_withholds_exemption_gives_back_a_verdict_that_fits_far_better_than_
     d = tmp_path / "wind-1-s9"
     d.mkdir()
     (d / "diagnosis.json").write_text(json.dumps(far))
-    assert rr.main([str(tmp_path)]) == 0
+    png = tmp_path / "exemption.png"
+    assert rr.main([str(tmp_path), "--plot-exemption", str(png)]) == 0
     out = capsys.readouterr().out.split("launch withhold's exemption")[1]
     assert "wind-1-s9 [?]: wind 75.00 % against launch rotation's 2.50 % (30.00 times): named, right" in out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_finished_cases_are_archived_by_commit_once_and_the_replay_reads_the_archive(tmp_path, capsys):
