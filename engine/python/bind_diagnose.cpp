@@ -320,6 +320,42 @@ void bind_diagnose(py::module_& m) {
         throw InputError("stability must be 0 (no check) or a whole number between 2 and 7");
       stability = static_cast<int>(v);
     }
+    // first: a result of this dataset made before (its JSON text); with
+    // stability it stands for the first run, so only the re-runs are made
+    // (the FreeCAD command's check after a named verdict).
+    if (kw.contains("first") && !kw["first"].is_none()) {
+      if (stability == 0) throw InputError("first is a result to check for stability; it needs stability 2 to 7");
+      json j;
+      try {
+        j = json::parse(kw["first"].cast<std::string>());
+      } catch (const std::exception&) {
+        throw InputError("first is not a diagnosis result (not JSON)");
+      }
+      if (!j.is_object() || j.value("format", "") != "pteromys-diagnosis/1" || !j.contains("verdict") ||
+          !j["verdict"].is_string() || !j.contains("effects") || !j["effects"].is_array())
+        throw InputError("first is not a diagnosis result (format pteromys-diagnosis/1 with a verdict and effects)");
+      if (j.contains("stability")) throw InputError("first already holds a stability check");
+      const std::string path = j.contains("dataset") && j["dataset"].is_object() ? j["dataset"].value("path", "") : "";
+      if (path != dataset)
+        throw InputError("first is a result of another dataset ('" + path + "', not '" + dataset + "')");
+      DiagnoseResult r;
+      r.verdict = j["verdict"].get<std::string>();
+      r.seconds = j.contains("timings") && j["timings"].is_object() ? j["timings"].value("total_s", 0.0) : 0.0;
+      for (const auto& e : j["effects"]) {
+        if (!e.is_object() || !e.contains("name") || !e.contains("shrink")) continue;
+        EffectResult er;
+        er.name = e["name"].get<std::string>();
+        er.shrink = e["shrink"].get<double>();
+        r.effects.push_back(er);
+      }
+      StabilityCheck st;
+      {
+        py::gil_scoped_release nogil;
+        st = check_stability(d, o, r, stability, cb);
+      }
+      add_stability_json(j, st);
+      return j.dump();
+    }
     DiagnoseResult r;
     std::optional<StabilityCheck> st;
     {

@@ -92,6 +92,27 @@ SECOND_SEARCH_QUESTION = (
     "It can find an effect the first search misses, but takes several times as long.")
 
 
+def stability_options(result):
+    """Options for checking a named verdict afterwards, or None: when
+    ``result`` names an effect and has no stability check yet, the
+    diagnosis can be made twice more with the simulation step changed
+    slightly (1.9 and 2.1 ms for 2 ms), ``result`` standing for the first
+    run (``first``), to see whether the verdict holds or turns on the
+    search's path (docs/diagnosis.md, "Stability check"). Not for `none`
+    or `unexplained`, whose re-runs would say nothing a person acts on."""
+    if result is None or result.get("stability") or result.get("verdict") in (None, "none", "unexplained"):
+        return None
+    return {"stability": 3, "first": result}
+
+
+def stability_question(result):
+    """The question the command asks after a named verdict."""
+    return ("The verdict names %s.\n\n"
+            "Check that it holds? The diagnosis is made twice more with the simulation step changed slightly "
+            "(1.9 and 2.1 ms for 2 ms); a verdict that changes turns on the search's path rather than on the "
+            "data and is marked tentative in the report. It takes about twice as long again." % result["verdict"])
+
+
 def summary_text(result):
     """A few lines for a message box: verdict, summary and the best effects."""
     lines = ["Verdict: %s" % result["verdict"], "", result.get("summary", ""), ""]

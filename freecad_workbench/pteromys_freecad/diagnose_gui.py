@@ -32,14 +32,39 @@ class DiagnoseFlights:
 def diagnose_dataset(dataset, report_dir=None, **options):
     """Diagnose ``dataset`` with progress and open the report; after an
     unexplained gap, offer the second search (docs/diagnosis.md, "Second
-    search") and, on Yes, run it and open its report. Returns the last result
-    (None when the diagnosis failed or was cancelled)."""
+    search") and, on Yes, run it and open its report; after a verdict that
+    names an effect, offer to check that it holds at slightly changed
+    simulation steps (docs/diagnosis.md, "Stability check") and, on Yes,
+    make the re-runs and open the report with the check. Returns the last
+    result (None when the diagnosis failed or was cancelled)."""
     result = run_with_progress(dataset, report_dir, **options)
     again = ask_second_search(result)
-    if again is None:
+    if again is not None:
+        second = run_with_progress(dataset, report_dir, **dict(options, **again))
+        if second is None:
+            return result
+        result, options = second, dict(options, **again)
+    check = ask_stability(result)
+    if check is None:
         return result
-    second = run_with_progress(dataset, report_dir, **dict(options, **again))
-    return second if second is not None else result
+    checked = run_with_progress(dataset, report_dir, **dict(options, **check))
+    return checked if checked is not None else result
+
+
+def ask_stability(result):
+    """After a verdict naming an effect, ask whether to check that it holds:
+    the options for the re-runs on Yes, None on No or when there is nothing
+    to ask (a stability check asked for already, `none`, `unexplained`)."""
+    from PySide2 import QtWidgets
+    import FreeCADGui as Gui
+    from . import diagnose as pd
+    check = pd.stability_options(result)
+    if check is None:
+        return None
+    answer = QtWidgets.QMessageBox.question(
+        Gui.getMainWindow(), "Pteromys: diagnose flights", pd.stability_question(result),
+        QtWidgets.QMessageBox.Yes | QtWidgets.QMessageBox.No, QtWidgets.QMessageBox.No)
+    return check if answer == QtWidgets.QMessageBox.Yes else None
 
 
 def ask_second_search(result):

@@ -46,6 +46,15 @@ RESULT["again_fixed"] = pd.second_search_options(dict(unexplained, options=dict(
 withheld = dict(unexplained, withheld={"effect": "wind", "because": "launch_rotation"})
 RESULT["again_withheld"] = pd.second_search_options(withheld)
 RESULT["text_withheld"] = pd.summary_text(withheld)
+named = dict(result, verdict="wind")
+named.pop("stability", None)
+RESULT["check"] = pd.stability_options(result) is not None
+RESULT["check_named"] = pd.stability_options(named)["stability"]
+RESULT["check_named_first"] = pd.stability_options(named)["first"] is named
+RESULT["check_none"] = pd.stability_options(dict(result, verdict="none"))
+RESULT["check_unexplained"] = pd.stability_options(unexplained)
+RESULT["check_checked"] = pd.stability_options(dict(named, stability={"runs": []}))
+RESULT["check_question"] = pd.stability_question(named)
 ''' % (str(ds), str(ds)), timeout=600)
     assert res["index"] == str(report / "index.html")
     assert res["default_dir"] == str(report)
@@ -66,6 +75,12 @@ RESULT["text_withheld"] = pd.summary_text(withheld)
     # are in question, not the starts), which the message box names
     assert res["again_withheld"] is None
     assert "Withheld (launch rotation fits too; check the launches): wind" in res["text_withheld"]
+    # the stability check is offered after a verdict naming an effect only,
+    # with the result standing for the first of three runs, and not twice
+    assert res["check"] is (res["verdict"] not in ("none", "unexplained"))
+    assert res["check_named"] == 3 and res["check_named_first"]
+    assert res["check_none"] is None and res["check_unexplained"] is None and res["check_checked"] is None
+    assert res["check_question"].startswith("The verdict names wind.") and "1.9 and 2.1 ms" in res["check_question"]
     steps = res["steps"]
     assert len(steps) > 5 and steps[-1][2] == "done" and steps[-1][0] == steps[-1][1]
     assert not [p for p in os.listdir(report.parent) if p.startswith(".diagnosis-")]

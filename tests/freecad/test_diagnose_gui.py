@@ -3,7 +3,9 @@ the diagnosis runs under its progress dialog and opens its report in
 FreeCAD's web view; after a gap the first search leaves unexplained the
 command asks whether to search again (a real QMessageBox, answered by
 clicking its buttons), Yes giving the second search's options and No none;
-after any other verdict it asks nothing.
+after a verdict naming an effect it asks whether to check that the verdict
+holds (Yes: two re-runs at changed simulation steps, and the report with
+its Stability section); after `none` it asks nothing.
 
 Set PTEROMYS_SCREENSHOTS=DIR to keep the question's screenshot.
 """
@@ -70,6 +72,8 @@ try:
     R["ask_after_" + str(result["verdict"])] = dg.ask_second_search(result)
     R["asked_after_ask"] = list(asked)
     guard.stop()
+    import pteromys_freecad.diagnose as pd
+    R["stability_question_of_run"] = pd.stability_question(result) if result["verdict"] not in ("none", "unexplained") else None
     # the question after an unexplained gap, answered by clicking
     unexplained = dict(result, verdict="unexplained", escalation={"ran": False})
     def answer(button, store):
@@ -92,8 +96,24 @@ try:
     answer(QtWidgets.QMessageBox.No, no)
     R["no"] = dg.ask_second_search(unexplained)
     R["no_dialog"] = no
-    import pteromys_freecad.diagnose as pd
     R["question"] = pd.SECOND_SEARCH_QUESTION
+    # the stability question after a named verdict (the run's, or the run
+    # taken as naming wind), answered by clicking; Yes makes the re-runs
+    # under the progress dialog and opens the report with the check
+    named = dict(result, verdict=result["verdict"] if result["verdict"] not in ("none", "unexplained") else "wind")
+    named.pop("stability", None)
+    syes, sno = {}, {}
+    answer(QtWidgets.QMessageBox.No, sno)
+    R["stability_no"] = dg.ask_stability(named)
+    R["stability_no_dialog"] = sno
+    answer(QtWidgets.QMessageBox.Yes, syes)
+    check = dg.ask_stability(named)
+    R["stability_yes_dialog"] = syes
+    R["stability_yes_keys"] = sorted(check) if check else None
+    R["stability_question"] = pd.stability_question(named)
+    checked = dg.run_with_progress(DS, REPORT, **dict(opts, **check)) if check else None
+    R["checked_stability"] = checked.get("stability") if checked else None
+    R["checked_page_has_section"] = "<h2>Stability</h2>" in open(os.path.join(REPORT, "index.html")).read()
     R["finished"] = True
 except Exception:
     R["error"] = traceback.format_exc()
@@ -116,7 +136,7 @@ def gui(fc_home, tmp_path_factory):
     script.write_text(GUI_SCRIPT % {"out": str(out), "ds": str(ds), "report": str(report), "shots": keep})
     if keep:
         os.makedirs(keep, exist_ok=True)
-    r = run_gui(fc_home, script, out, tmp, timeout=900)
+    r = run_gui(fc_home, script, out, tmp, timeout=1500)  # the diagnosis, then the stability check's two re-runs
     assert r.get("finished"), r
     return r
 
@@ -132,13 +152,32 @@ def test_diagnosis_runs_under_its_progress_dialog_and_opens_the_report(gui):
     assert gui["windows_added"] >= 1, gui["window_titles"]
 
 
-def test_a_verdict_other_than_unexplained_asks_nothing(gui):
+def test_after_the_run_only_the_question_due_is_asked(gui):
     if gui["verdict"] == "unexplained":
-        # the guard answered No to the question, so it was asked once
-        assert len(gui["asked_after_run"]) == 1
-    else:
+        # the guard answered No to the second search's question, so it was
+        # asked once (and no stability check after `unexplained`)
+        assert gui["asked_after_run"] == [gui["question"]]
+    elif gui["verdict"] == "none":
         assert gui["asked_after_run"] == [] and gui["asked_after_ask"] == []
+        assert gui["ask_after_none"] is None
+    else:
+        # a named verdict: the stability question, answered No by the guard
+        assert gui["asked_after_run"] == [gui["stability_question_of_run"]]
         assert gui["ask_after_" + gui["verdict"]] is None
+
+
+def test_a_named_verdict_offers_the_stability_check_and_yes_makes_it(gui):
+    for d in (gui["stability_yes_dialog"], gui["stability_no_dialog"]):
+        assert d["dialog"] == "QMessageBox", d
+        assert d["text"] == gui["stability_question"]
+        assert d["buttons"] == ["No", "Yes"] and d["default"] == "No"
+    assert gui["stability_no"] is None
+    assert gui["stability_yes_keys"] == ["first", "stability"]
+    st = gui["checked_stability"]
+    # three runs in all: the result asked about (not diagnosed again) and two re-runs
+    assert st is not None and st["of"] == 3 and len(st["runs"]) == 3
+    assert [round(r["dt_s"], 5) for r in st["runs"]] == [0.002, 0.0019, 0.0021]
+    assert st["sentence"] and gui["checked_page_has_section"]
 
 
 def test_an_unexplained_gap_asks_for_the_second_search(gui):

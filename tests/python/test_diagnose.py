@@ -576,6 +576,19 @@ def test_stability_check_reruns_the_diagnosis_at_a_changed_step(tmp_path, camera
     page = (rep / "index.html").read_text()
     assert "<h2>Stability</h2>" in page and "1.9 ms" in page
     assert ("tentative" in page) is (not same)
+    # The check of an earlier result (first=, the FreeCAD command's question
+    # after a named verdict): the plain result stands for the first run and
+    # is returned with the check added; only the re-run is made, and it is
+    # the independent --dt 0.0019 diagnosis's.
+    import pteromys
+    msgs = []
+    k = pteromys.diagnose(str(ds), max_centres=2, folds=3, threads=2, stability=2, first=plain,
+                          progress=lambda p: msgs.append(p["message"]))
+    assert k["effects"] == plain["effects"] and k["verdict"] == plain["verdict"]
+    assert [x["verdict"] for x in k["stability"]["runs"]] == [plain["verdict"], other["verdict"]]
+    assert k["stability"]["runs"][1]["verdict_shrink"] == pytest.approx(shrink, abs=1e-12)
+    assert k["stability"]["sentence"] == st["sentence"] and k["summary"] == j["summary"]
+    assert msgs and all(m.startswith("stability check 1/1 (step 1.9 ms): ") for m in msgs), msgs[:3]
 
 
 def test_zeroed_reference_only_lowers_likelihood_ratios(tmp_path, camera_case):
@@ -608,6 +621,22 @@ def test_python_call_refuses_a_bad_stability(tmp_path):
     ds = _generate(tmp_path, "d", "baseline")
     with pytest.raises(Exception, match="stability"):
         pteromys.diagnose(ds, stability=1)
+
+
+def test_python_call_refuses_a_first_result_it_cannot_check(tmp_path):
+    """first= (a result to check for stability) needs stability, a
+    diagnosis result, of this dataset, not checked already; each refusal
+    names the problem before anything is diagnosed."""
+    import pteromys
+    ds = str(_generate(tmp_path, "d", "baseline"))
+    ok = {"format": "pteromys-diagnosis/1", "verdict": "none", "effects": [], "dataset": {"path": ds}}
+    cases = [(dict(stability=0, first=ok), "needs stability 2 to 7"),
+             (dict(stability=2, first={"verdict": "none"}), "not a diagnosis result"),
+             (dict(stability=2, first=dict(ok, dataset={"path": "/elsewhere/dataset.json"})), "another dataset"),
+             (dict(stability=2, first=dict(ok, stability={"runs": []})), "already holds a stability check")]
+    for kw, words in cases:
+        with pytest.raises(Exception, match=words):
+            pteromys.diagnose(ds, **kw)
 
 
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):

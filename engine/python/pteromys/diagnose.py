@@ -28,7 +28,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, leader_reached=0.5,
              theory_starts=False,
              hold_theory=False, step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0,
-             stability=0, progress=None):
+             stability=0, first=None, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
     ``effects``: candidate names (default: the whole library, ``effect_library()``).
@@ -97,6 +97,11 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     10 %, ... either way, and report whether the verdict stayed the same
     (result key ``stability``, its sentence appended to ``summary``; the
     verdict is the first run's); the CLI's ``--stability``.
+    ``first`` (with ``stability``): a result of this ``dataset`` made
+    before with the same options (the dict this function returned); it
+    stands for the first run, so only the re-runs are made, and it is
+    returned with its stability check added (what the FreeCAD command
+    does when asked to check a verdict after the diagnosis).
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
@@ -120,6 +125,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 theory_starts=bool(theory_starts), hold_theory=bool(hold_theory),
                 step_per_flight=bool(step_per_flight), refit_unstepped=bool(refit_unstepped), oracle=oracle,
                 plausible=plausible, threads=threads, stability=stability)
+    if first is not None:
+        opts["first"] = _json.dumps(first)
     return _json.loads(_core._diagnose(str(dataset), opts, progress))
 
 
