@@ -55,32 +55,28 @@ def ask_stability(result):
     """After a verdict naming an effect, ask whether to check that it holds:
     the options for the re-runs on Yes, None on No or when there is nothing
     to ask (a stability check asked for already, `none`, `unexplained`)."""
-    from PySide2 import QtWidgets
-    import FreeCADGui as Gui
     from . import diagnose as pd
     check = pd.stability_options(result)
-    if check is None:
-        return None
+    return check if check is not None and _yes(pd.stability_question(result)) else None
+
+
+def _yes(question):
+    """Ask the command's Yes/No question (No the default): True on Yes."""
+    from PySide2 import QtWidgets
+    import FreeCADGui as Gui
     answer = QtWidgets.QMessageBox.question(
-        Gui.getMainWindow(), "Pteromys: diagnose flights", pd.stability_question(result),
+        Gui.getMainWindow(), "Pteromys: diagnose flights", question,
         QtWidgets.QMessageBox.Yes | QtWidgets.QMessageBox.No, QtWidgets.QMessageBox.No)
-    return check if answer == QtWidgets.QMessageBox.Yes else None
+    return answer == QtWidgets.QMessageBox.Yes
 
 
 def ask_second_search(result):
     """After a real gap the first search left unexplained, ask whether to
     search again from the corrections' theoretical sizes: the options for
     that search on Yes, None on No or when there is nothing to ask."""
-    from PySide2 import QtWidgets
-    import FreeCADGui as Gui
     from . import diagnose as pd
     again = None if result is None else pd.second_search_options(result)
-    if again is None:
-        return None
-    answer = QtWidgets.QMessageBox.question(
-        Gui.getMainWindow(), "Pteromys: diagnose flights", pd.SECOND_SEARCH_QUESTION,
-        QtWidgets.QMessageBox.Yes | QtWidgets.QMessageBox.No, QtWidgets.QMessageBox.No)
-    return again if answer == QtWidgets.QMessageBox.Yes else None
+    return again if again is not None and _yes(pd.SECOND_SEARCH_QUESTION) else None
 
 
 def run_with_progress(dataset, report_dir=None, **options):

@@ -1967,15 +1967,21 @@ TEST(DiagnoseStatistics, ASessionWideVerdictFarBetterThanLaunchRotationOnTheTrai
   v[1].rate_mean_p = 0.45;
   EXPECT_EQ(launch_dominance_sentence(v, "wind", 0.01, base, 5.0), "");
 
+  // The two shares (to 1e-5) and the decision at 5 of a stored run.
+  const auto expect_shares = [](const std::vector<EffectResult>& runs, const std::string& verdict, double baseline,
+                                double verdict_share, double launch_share) {
+    const LaunchDominance e = launch_dominance(runs, verdict, baseline, 5.0);
+    EXPECT_NEAR(e.verdict_gain, verdict_share, 1e-5) << verdict;
+    EXPECT_NEAR(e.launch_gain, launch_share, 1e-5) << verdict;
+    EXPECT_FALSE(e.dominates) << verdict;
+  };
+
   // Launch rotation s44: the wind only 2.2 times: withheld at 5, not at 2.
   base = 0.0144419;
   wind.fit_rmse_m = 0.013842;
   lr.fit_rmse_m = 0.0141715;
   v = {wind, lr};
-  d = launch_dominance(v, "wind", base, 5.0);
-  EXPECT_NEAR(d.verdict_gain, 0.04154, 1e-5);
-  EXPECT_NEAR(d.launch_gain, 0.01872, 1e-5);
-  EXPECT_FALSE(d.dominates);
+  expect_shares(v, "wind", base, 0.04154, 0.01872);
   EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 5.0), "unexplained");
   EXPECT_EQ(launch_dominance_sentence(v, "wind", 0.01, base, 5.0), "");
   EXPECT_EQ(launch_withheld(v, "wind", 0.01, base, 2.0), "");
@@ -1990,10 +1996,7 @@ TEST(DiagnoseStatistics, ASessionWideVerdictFarBetterThanLaunchRotationOnTheTrai
   lr.fit_rmse_m = 0.0151041;
   lr.significant = true;
   v = {camera, lr};
-  d = launch_dominance(v, "camera", base, 5.0);
-  EXPECT_NEAR(d.verdict_gain, 0.01804, 1e-5);
-  EXPECT_NEAR(d.launch_gain, 0.02398, 1e-5);
-  EXPECT_FALSE(d.dominates);
+  expect_shares(v, "camera", base, 0.01804, 0.02398);
   EXPECT_EQ(launch_withheld(v, "camera", 0.01, base, 5.0), "launch_rotation");
   // Without launch rotation among the candidates there is nothing to compare.
   EXPECT_FALSE(launch_dominance({camera}, "camera", base, 5.0).applies);
