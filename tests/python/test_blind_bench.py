@@ -638,3 +638,33 @@ def test_rule_replay_finds_the_likelihood_reference_and_takes_its_verdict_back(t
     out = capsys.readouterr().out
     assert "| likelihood ratios from a candidate's fit at 0 | 0 of 0 (95 % bound nan %) | 0 of 1 | 0 of 1 |" in out
     assert "no longer another effect significant: finite_span-1-s42" in out
+
+
+def test_the_blind_figures_are_drawn_from_the_documented_table_and_the_archive(tmp_path, capsys):
+    """bench/diagnosis/plot_blind.py draws docs/img/blind_top1.png and
+    blind_strengths.png: its rows are the top-1 table's as this file reads
+    them, and a fitted strength it plots is the archived run's own value in
+    the reference's units (read here from the stored JSON)."""
+    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
+    pb = importlib.util.module_from_spec(spec_pb)
+    spec_pb.loader.exec_module(pb)
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    rows = pb.top1_rows(text)
+    assert [(r["case"], r["oracle"], r["verdict"], r["shrink"]) for r in rows] == _top1_table(text)
+    m = pb.confusion(rows)
+    assert sum(m[e][e] for e in m) == sum(1 for case, _, verdict, _ in _top1_table(text) if verdict == case.split("-")[0])
+    found, missing = pb.strengths(rows, rb.ARCHIVE)
+    assert len(found) + len(missing) == len(rows) and len(found) >= 20
+    # finite span s40 is archived at 43a3327 (the table's commit): its all-glider strength, read directly.
+    import gzip
+    with gzip.open(os.path.join(rb.ARCHIVE, "43a3327", "finite_span-1-s40.diagnosis.json.gz"), "rt") as f:
+        stored = next(e for e in json.load(f)["effects"] if e["name"] == "finite_span")
+    fs40 = next(f for f in found if f["case"] == "finite_span-1-s40")
+    assert fs40["all"] == [pytest.approx(stored["parameters"]["strength"])]
+    assert [x[0] for x in fs40["folds"]] == pytest.approx([p["strength"] for p in stored["fold_parameters"]])
+    assert not fs40["named"]
+    assert pb.main(["--out", str(tmp_path)]) == 0
+    for name in ("blind_top1.png", "blind_strengths.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
+    out = capsys.readouterr().out
+    assert "%d cases, %d named right" % (len(rows), sum(m[e][e] for e in m)) in out

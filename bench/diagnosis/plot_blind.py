@@ -1,0 +1,223 @@
+#!/usr/bin/env python3
+"""Figures of the blind validation (issue 7, docs/diagnosis.md, *Blind
+validation*), drawn from what the docs already state and the archive holds,
+so that they cannot drift from the counted figures:
+
+- the top-1 figure: the true effect's held-out shrink against its oracle's
+  for every case of docs/diagnosis.md's top-1 table, marked by verdict,
+  beside the confusion matrix recounted from the same table;
+- the strengths figure: the true effect's fitted strength on all gliders
+  and in each fold, in the reference simulator's units (1 = the strength
+  the data were made with), for the table's cases whose run at the table's
+  commit is archived (bench/diagnosis/runs).
+
+    /usr/bin/python3 bench/diagnosis/plot_blind.py [--docs docs/diagnosis.md]
+        [--archive bench/diagnosis/runs] [--out docs/img]
+
+Writes OUT/blind_top1.png and OUT/blind_strengths.png and prints what it
+drew. Needs matplotlib (Debian's python3-matplotlib).
+"""
+import argparse
+import collections
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import run_blind as rb  # noqa: E402  (the case names, strengths and archive)
+
+TOP1_HEADER = "| case | oracle | verdict | true effect's shrink | commit |"
+VERDICTS = ["camera", "downwash", "finite_span", "launch_rotation", "pitch_damping", "wind", "none", "unexplained"]
+
+
+def percent(cell):
+    return float(cell.strip().rstrip(" %").replace("\u2212", "-"))  # the docs write a minus sign
+
+
+def top1_rows(text):
+    """The rows of the top-1 table: dicts case, effect, oracle, verdict,
+    shrink (percent) and commit (the first word of the commit cell)."""
+    lines = text.splitlines()
+    try:
+        head = next(i for i, line in enumerate(lines) if line.startswith(TOP1_HEADER))
+    except StopIteration:
+        raise ValueError("the top-1 table (%s) is not in the docs" % TOP1_HEADER)
+    rows = []
+    for line in lines[head + 2:]:
+        if not line.startswith("|"):
+            break
+        c = [x.strip() for x in line.strip().strip("|").split("|")]
+        rows.append({"case": c[0], "effect": c[0].split("-")[0], "oracle": percent(c[1]), "verdict": c[2],
+                     "shrink": percent(c[3]), "commit": c[4].split(",")[0].split()[0]})
+    if not rows:
+        raise ValueError("the top-1 table has no rows")
+    return rows
+
+
+def confusion(rows):
+    """{true effect: Counter(verdict)} of the table."""
+    m = collections.defaultdict(collections.Counter)
+    for r in rows:
+        m[r["effect"]][r["verdict"]] += 1
+    return m
+
+
+def strengths(rows, archive_dir):
+    """For each table row whose run at the table's commit is archived: the
+    true effect's fitted strength on all gliders and per fold, in the
+    reference's units (the camera: scale and roll, each against its own
+    nominal). Returns (found, missing): found a list of dicts case, effect,
+    named, all (list of values, one per parameter), folds (list of lists)."""
+    stored = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(archive_dir)}
+    found, missing = [], []
+    for row in rows:
+        r = stored.get((row["case"], row["commit"]))
+        if r is None:
+            missing.append(row["case"])
+            continue
+        e = next(x for x in r["effects"] if x["name"] == row["effect"])
+
+        def values(params):
+            s = rb.strength_of(row["effect"], params)
+            return list(s) if isinstance(s, tuple) else [s]
+        found.append({"case": row["case"], "effect": row["effect"], "named": row["verdict"] == row["effect"],
+                      "all": values(e.get("parameters", {})),
+                      "folds": [values(p) for p in e.get("fold_parameters", [])]})
+    return found, missing
+
+
+def plot_top1(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    effects = sorted({r["effect"] for r in rows})
+    colour = {e: "C%d" % i for i, e in enumerate(effects)}
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12.0, 5.2), gridspec_kw={"width_ratios": [1.05, 1]})
+    # The axes end at 35 %: a case beyond (wind s22, 67 %) is drawn on the
+    # edge as a triangle with its values written beside it.
+    hi = min(35.0, max(max(r["oracle"] for r in rows), max(r["shrink"] for r in rows)) * 1.08)
+    lo = min(0.0, min(r["shrink"] for r in rows)) - 1
+    ax.plot([0, hi], [0, hi], ":", color="0.5", lw=1, label="as much as the oracle")
+    ax.plot([0, hi], [0, 0.7 * hi], "--", color="0.6", lw=1, label="70 % of the oracle's (the target)")
+    ax.axhline(5.0, color="C3", lw=0.8, alpha=0.6)
+    ax.text(hi * 0.99, 5.3, "the 5 % margin", color="C3", fontsize=7, ha="right")
+    for r in rows:
+        kind = ("right" if r["verdict"] == r["effect"] else
+                "declined" if r["verdict"] in ("none", "unexplained") else "wrong")
+        style = {"right": dict(marker="o", mfc=colour[r["effect"]], mec=colour[r["effect"]]),
+                 "declined": dict(marker="o", mfc="white", mec=colour[r["effect"]]),
+                 "wrong": dict(marker="X", mfc=colour[r["effect"]], mec="k")}[kind]
+        x, y = min(r["oracle"], hi * 0.985), min(r["shrink"], hi * 0.985)
+        if (x, y) != (r["oracle"], r["shrink"]):
+            style["marker"] = "^"
+            ax.annotate("%s (%.1f, %.1f)" % (r["case"].replace("-1-", " "), r["oracle"], r["shrink"]), (x, y),
+                        textcoords="offset points", xytext=(-6, -10), fontsize=6, ha="right")
+        ax.plot(x, y, ls="", ms=7, **style)
+        if kind != "right":
+            ax.annotate(r["case"].replace("pitch_damping", "PD").replace("finite_span", "FS").replace("-1-", " ")
+                        + ("" if kind == "declined" else " → " + r["verdict"]),
+                        (x, y), textcoords="offset points", xytext=(4, -9), fontsize=6)
+    for e in effects:
+        ax.plot([], [], "o", color=colour[e], label=e)
+    ax.plot([], [], "o", mfc="white", mec="k", label="not named (none / unexplained)")
+    ax.plot([], [], "X", mfc="0.5", mec="k", label="another effect named")
+    hits = sum(1 for r in rows if r["verdict"] == r["effect"])
+    ax.set_xlim(0, hi)
+    ax.set_ylim(lo, hi)
+    ax.set_xlabel("oracle's held-out shrink, % (the baseline plus the true effect at its size)")
+    ax.set_ylabel("the true effect's held-out shrink in the diagnosis, %")
+    ax.set_title("Top-1: %d of %d named (filled)" % (hits, len(rows)), fontsize=10)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_aspect("equal", adjustable="box")
+
+    m = confusion(rows)
+    truths = sorted(m)
+    cols = [v for v in VERDICTS if any(m[t][v] for t in truths)]
+    grid = [[m[t][v] for v in cols] for t in truths]
+    bx.imshow([[g / max(1, sum(row)) for g in row] for row in grid], cmap="Blues", vmin=0, vmax=1, aspect="auto")
+    for i, row in enumerate(grid):
+        for j, n in enumerate(row):
+            if n:
+                bx.text(j, i, str(n), ha="center", va="center", fontsize=9,
+                        color="white" if n / max(1, sum(row)) > 0.6 else "black")
+    bx.set_xticks(range(len(cols)))
+    bx.set_xticklabels(cols, rotation=35, ha="right", fontsize=8)
+    bx.set_yticks(range(len(truths)))
+    bx.set_yticklabels(["%s (%d of %d)" % (t, m[t][t], sum(m[t].values())) for t in truths], fontsize=8)
+    bx.set_xlabel("verdict")
+    bx.set_ylabel("true effect (named right)")
+    bx.set_title("Confusion matrix of the nameable cases", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def plot_strengths(found, n_rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    # One column per parameter: the camera's scale and roll apart.
+    labels = []
+    for f in found:
+        names = [n for n, _ in rb.nominal(f["effect"])] if len(f["all"]) > 1 else [None]
+        for k, n in enumerate(names):
+            lab = f["effect"] + ("" if n is None else " (%s)" % n)
+            if lab not in labels:
+                labels.append(lab)
+    labels.sort()
+    fig, ax = plt.subplots(figsize=(9.0, 4.8))
+    per = collections.defaultdict(int)
+    for f in found:
+        names = [n for n, _ in rb.nominal(f["effect"])] if len(f["all"]) > 1 else [None]
+        for k, n in enumerate(names):
+            lab = f["effect"] + ("" if n is None else " (%s)" % n)
+            x = labels.index(lab) + (per[lab] % 12 - 5.5) * 0.05
+            per[lab] += 1
+            colour = "C2" if f["named"] else "C3"
+            for fold in f["folds"]:
+                ax.plot(x, fold[k], ".", color=colour, ms=3, alpha=0.5)
+            ax.plot(x, f["all"][k], "o", ms=6, mfc=colour if f["named"] else "white", mec=colour)
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    ax.text(len(labels) - 0.5, 1.03, "the data's strength", fontsize=7, ha="right")
+    ax.plot([], [], "o", mfc="C2", mec="C2", label="on all gliders, case named right")
+    ax.plot([], [], "o", mfc="white", mec="C3", label="on all gliders, case missed")
+    ax.plot([], [], ".", color="0.4", label="in each fold")
+    ax.set_xticks(range(len(labels)))
+    ax.set_xticklabels(labels, fontsize=8)
+    ax.set_xlim(-0.6, len(labels) - 0.4)
+    ax.set_ylabel("fitted strength (1 = the strength the data were made with)")
+    ax.set_title("Fitted against true strength: %d of the top-1 table's %d cases (those archived)"
+                 % (len(found), n_rows), fontsize=10)
+    ax.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--docs", default=os.path.join(ROOT, "docs", "diagnosis.md"))
+    ap.add_argument("--archive", default=rb.ARCHIVE)
+    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "img"))
+    a = ap.parse_args(argv)
+    with open(a.docs, encoding="utf-8") as f:
+        rows = top1_rows(f.read())
+    os.makedirs(a.out, exist_ok=True)
+    p1 = os.path.join(a.out, "blind_top1.png")
+    plot_top1(rows, p1)
+    hits = sum(1 for r in rows if r["verdict"] == r["effect"])
+    print("%s: %d cases, %d named right" % (p1, len(rows), hits))
+    found, missing = strengths(rows, a.archive)
+    p2 = os.path.join(a.out, "blind_strengths.png")
+    plot_strengths(found, len(rows), p2)
+    print("%s: %d cases archived at the table's commit; not archived: %s" % (p2, len(found), ", ".join(missing) or "none"))
+    for f in found:
+        print("  %-22s %-7s all gliders %s, folds %s" % (
+            f["case"], "named" if f["named"] else "missed", ", ".join("%.2f" % v for v in f["all"]),
+            "; ".join(", ".join("%.2f" % v for v in fold) for fold in f["folds"])))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
