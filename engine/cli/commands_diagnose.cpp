@@ -127,7 +127,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
                              "--no-launch-withhold", "--no-launch-rates-confirm",
                              "--prefer-identifiable", "--carry-steps", "--no-carry-steps",
                              "--leader-start", "--no-leader-start",
-                             "--heldout-steps", "--no-heldout-steps", "--heldout-fold-start", "--zeroed-reference", "--no-zeroed-reference", "--theory-starts", "--no-theory-starts",
+                             "--heldout-steps", "--no-heldout-steps", "--heldout-fold-start", "--no-heldout-fold-start", "--zeroed-reference", "--no-zeroed-reference", "--theory-starts", "--no-theory-starts",
                              "--hold-theory", "--no-hold-theory",
                              "--escalate", "--no-escalate", "--step-per-flight", "--no-step-per-flight",
                              "--no-unstepped-refit"});
@@ -168,7 +168,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
     if (!(o.leader_reached >= 0)) throw InputError("--leader-reached must not be negative");
   }
   o.heldout_steps = on_off(a, "heldout-steps", o.heldout_steps);
-  o.heldout_fold_start = a.flag("--heldout-fold-start");
+  o.heldout_fold_start = on_off(a, "heldout-fold-start", o.heldout_fold_start);
   o.zeroed_reference = on_off(a, "zeroed-reference", o.zeroed_reference);
   o.theory_starts = on_off(a, "theory-starts", o.theory_starts);
   o.hold_theory = on_off(a, "hold-theory", o.hold_theory);
@@ -344,8 +344,9 @@ const bool registered_diagnose = register_command(
          "                          simulation step changed by 5 %, 10 %, ... either way, and say\n"
          "                          whether the verdict stayed the same (key 'stability'; the\n"
          "                          verdict is the first run's; N times as long; docs)\n"
-         "  --heldout-fold-start    such a refit also starts at the mean of the folds' fitted\n"
-         "                          strengths, switched on in steps (experimental: docs)\n"
+         "  --no-heldout-fold-start by default such a refit also starts at the mean of the\n"
+         "                          folds' fitted strengths, switched on in steps (docs); with\n"
+         "                          this option it does not; --heldout-fold-start: the default\n"
          "  --no-zeroed-reference   by default the likelihood ratios' reference also considers\n"
          "                          each candidate's fit with its values at 0, launches refitted\n"
          "                          (docs); with this option only candidates fitted exactly at 0\n"

@@ -581,12 +581,12 @@ TEST(Diagnose, TheVerdictsStrengthIsRefittedFromItsStepWhenNoCandidateWas) {
   EXPECT_THROW(diagnose(d, o), InputError);
 }
 
-// (DiagnoseOptions::heldout_fold_start, experimental) The held-out-led
+// (DiagnoseOptions::heldout_fold_start, on by default since 2026-12-03) The held-out-led
 // refit of the case above also starts pitch damping at the mean of its
 // folds' fitted strengths, switched on from the baseline in steps: with
 // leader_reached at 100 the start is made even where the step reached it,
 // and its line names the folds' mean, which is the mean of the strengths
-// the result reports for the folds. Off (the default) no such start; the
+// the result reports for the folds. Off, no such start; the
 // verdict and its strength (the truth's 1 within 0.1) either way.
 TEST(Diagnose, AHeldOutLedRefitCanStartFromTheFoldsMeanStrength) {
   auto [d, o] = profiled_pitch_damping_case();

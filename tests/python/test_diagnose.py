@@ -377,7 +377,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert camera_case[1]["options"]["step_per_flight"] is False  # experimental, off by default
     assert camera_case[1]["options"]["refit_unstepped"] is True  # on by default since 2026-11-30
     assert camera_case[1]["options"]["heldout_steps"] is True  # on by default since 2026-11-29
-    assert camera_case[1]["options"]["heldout_fold_start"] is False  # experimental, off by default
+    assert camera_case[1]["options"]["heldout_fold_start"] is True  # on by default since 2026-12-03
     assert camera_case[1]["options"]["zeroed_reference"] is True  # on by default since 2026-12-02
     assert camera_case[1]["options"]["theory_starts"] is False  # experimental, off by default
     assert camera_case[1]["options"]["hold_theory"] is False  # experimental, off by default
@@ -398,7 +398,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     out = tmp_path / "fixed.json"
     r = run(["diagnose", ds, "--json", out] + FAST + ["--no-profile", "--no-glider-guard", "--prefer-identifiable",
                                                "--no-carry-steps", "--no-leader-start", "--no-bound-guard",
-                                               "--no-heldout-steps", "--heldout-fold-start",
+                                               "--no-heldout-steps", "--no-heldout-fold-start",
                                                "--no-unstepped-refit", "--no-launch-withhold",
                                                "--no-launch-rates-confirm", "--leader-reached", "100",
                                                "--launch-withhold-dominance", "2.5"])
@@ -410,7 +410,7 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert j["options"]["launch_withhold"] is False
     assert j["options"]["launch_rates_confirm"] is False
     assert j["options"]["heldout_steps"] is False
-    assert j["options"]["heldout_fold_start"] is True
+    assert j["options"]["heldout_fold_start"] is False
     assert all(e["cross_validation"]["bound_pass"] for e in j["effects"])  # no guard, nothing it stops
     assert j["options"]["prefer_identifiable"] is True
     assert j["options"]["carry_steps"] is False

@@ -229,7 +229,7 @@ struct DiagnoseOptions {
   /// mass (6.1 % held out, fitted at the edge of its range in three folds)
   /// where the default said `unexplained` (docs/diagnosis.md).
   bool heldout_steps = true;
-  /// (experimental, off by default) A held-out-led refit on all gliders
+  /// (on by default since 2026-12-03, experimental before) A held-out-led refit on all gliders
   /// (heldout_steps) also starts the candidate at the mean of its folds'
   /// fitted strengths, switched on from the baseline in steps with the
   /// launches and trims refitted, as the leader's start is in the folds,
@@ -240,8 +240,10 @@ struct DiagnoseOptions {
   /// to 0 and the verdict was `unexplained`; with it named (0.537 from the
   /// folds' mean 0.246, likelihood-ratio delta chi2 3862); also pitch
   /// damping s33 at a 2.1 ms step (0.588 from the folds' mean 0.415). Not
-  /// made on any of the 43 null runs with it (docs/diagnosis.md).
-  bool heldout_fold_start = false;
+  /// made on any of the 43 null runs with it; made on a null only with the
+  /// held-out margin lowered to 1 % and the start forced (leader_reached
+  /// 100), where it named nothing (docs/diagnosis.md).
+  bool heldout_fold_start = true;
   /// (on by default since 2026-12-02, experimental before) The likelihood ratios'
   /// reference also considers each candidate's own fit to all gliders with
   /// its values set to 0 and the launches refitted there: a baseline-model

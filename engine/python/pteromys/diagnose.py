@@ -24,7 +24,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
              launch_withhold_dominance=5.0,
-             heldout_steps=True, heldout_fold_start=False, zeroed_reference=True, escalate=False,
+             heldout_steps=True, heldout_fold_start=True, zeroed_reference=True, escalate=False,
              prefer_identifiable=False, step_alpha=1.0, carry_steps=True, leader_start=True, leader_reached=0.5,
              theory_starts=False,
              hold_theory=False, step_per_flight=False, refit_unstepped=True, oracle=None, plausible=None, threads=0,
@@ -88,7 +88,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``step_per_flight``, ``refit_unstepped``, ``oracle`` (e.g.
     ``"finite_span=1"``) and ``plausible`` (e.g. ``"camera=0.05:3"``) are
     the CLI's ``--step-alpha``, ``--carry-steps``/``--no-carry-steps``, ``--no-leader-start``,
-    ``--leader-reached``, ``--heldout-fold-start``,
+    ``--leader-reached``, ``--no-heldout-fold-start``,
     ``--theory-starts``, ``--hold-theory``, ``--step-per-flight``,
     ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
     (docs/diagnosis.md, *Using it*).
