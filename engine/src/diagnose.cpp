@@ -1547,6 +1547,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   // their gain here (DiagnoseOptions::carry_steps).
   // `leader` (optional): set to the candidate with the largest linearised
   // gain that passes the test's screen (-1: none).
+  // Where the screen's gains are kept (EffectResult::linearised_delta_chi2):
+  // set around the all-glider and fold fits, one value per candidate.
+  std::vector<double>* screen_gains = nullptr;
   auto profile_starts = [&](FitOutcome& base, const std::vector<int>& flights, const std::string& label,
                             std::vector<bool>* stepped = nullptr, const std::vector<bool>* carried = nullptr,
                             int* leader = nullptr) {
@@ -1588,6 +1591,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
       double sse_e = 0;
       starts[e].push_back(D.linear_step(base, free, J, c, &sse_e));
       const double gain = (sse_base - sse_e) / s2_noise;
+      if (screen_gains) (*screen_gains)[e] = gain;
       const double dof = static_cast<double>(cols[e].size());
       // The laxer screen only in the folds (`carried` is given there): on all
       // gliders the baseline takes the extra candidates' re-tuned centre
@@ -1870,6 +1874,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   std::vector<FitOutcome> eff_full(ne);
   std::vector<bool> full_stepped(ne, false);  // candidates refitted from their linearised step on all gliders
   int full_leader = -1;  // the largest linearised gain there that passes the test's screen (-1: none)
+  constexpr double kNoScreen = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> full_screen(ne, kNoScreen);  // the screen's linearised gains on all gliders
   int full_centres = 0;
   if (o.full_fit) {
     const auto tf = Clock::now();
@@ -1882,7 +1888,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     full_centres = centre_count(base_full.model.coefficients);
     report("baseline", "all gliders: baseline RMSE " + cm(base_full.rmse()) + " (" + std::to_string(full_centres) +
                            " centres, launches and trims fitted)");
+    screen_gains = &full_screen;
     eff_full = fit_effects_from(base_full, all_flights, "all gliders", &full_stepped, nullptr, &full_leader);
+    screen_gains = nullptr;
     res.model = base_full.model.coefficients;
     res.trim = base_full.model.trim;
     timings["all_gliders_s"] = since(tf);
@@ -1892,6 +1900,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   res.heldout.resize(d.flights.size());
   std::vector<std::vector<std::vector<double>>> fold_params(ne);
   std::vector<std::vector<bool>> fold_held(ne);
+  std::vector<std::vector<double>> fold_screen(ne);  // the screen's linearised gains per fold
   std::vector<double> train_dsse(ne, 0.0);  // summed over folds (for the LR test without a full fit)
   double train_sse0 = 0;
   int train_dof0 = 0;
@@ -1949,8 +1958,12 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
         }
       }
     }
+    std::vector<double> screen(ne, kNoScreen);
+    screen_gains = &screen;
     std::vector<FitOutcome> trs =
         fit_effects_from(base_tr, train, label, nullptr, o.carry_steps && o.full_fit ? &full_stepped : nullptr);
+    screen_gains = nullptr;
+    for (int e = 0; e < ne; ++e) fold_screen[e].push_back(screen[e]);
     lead_effect = -1;
     if (base_tr.model.coefficients != coefficients_before) {
       // The baseline took a polished candidate's centre values: predict the
@@ -2247,6 +2260,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
     r.shrink = 1 - r.holdout_rmse_m / res.holdout_rmse_m;
     r.fold_parameters = fold_params[e];
     r.fold_strength_held = fold_held[e];
+    r.linearised_delta_chi2 = full_screen[e];
+    r.fold_linearised_delta_chi2 = fold_screen[e];
     double dsse = 0, sse_e = 0;
     if (o.full_fit) {
       r.fit_rmse_m = eff_full[e].rmse();
@@ -3193,6 +3208,16 @@ json glider_map(const std::vector<std::pair<std::string, double>>& v) {
 }
 }  // namespace
 
+namespace {
+// A figure, or null where it was not computed (NaN).
+json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+json nums_or_null(const std::vector<double>& v) {
+  json out = json::array();
+  for (double x : v) out.push_back(num_or_null(x));
+  return out;
+}
+}  // namespace
+
 json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   json j;
   j["format"] = "pteromys-diagnosis/1";
@@ -3230,6 +3255,8 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                             {"fold_parameters", fold},
                             {"strength_held", e.strength_held},
                             {"fold_strength_held", e.fold_strength_held},
+                            {"linearised_delta_chi2", num_or_null(e.linearised_delta_chi2)},
+                            {"fold_linearised_delta_chi2", nums_or_null(e.fold_linearised_delta_chi2)},
                             {"likelihood_ratio", {{"delta_chi2", e.delta_chi2},
                                                   {"p_value", e.p_value},
                                                   {"holm_level", e.holm_level},

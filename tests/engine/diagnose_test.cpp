@@ -547,6 +547,61 @@ TEST(Diagnose, ProfiledStartsFitTheTrueCorrectionToTheNoise) {
   EXPECT_TRUE(seen);
 }
 
+// The profiled starts' screen is kept in the result
+// (EffectResult::linearised_delta_chi2, per fold too) so that rules choosing
+// among candidates by it can be replayed on stored results. On flights of
+// the model with pitch damping at its full size the true correction's
+// linearised gain leads wind's on all gliders and in every fold (the data
+// were made with pitch damping and no wind); the figures are the ones the
+// progress lines print (three significant digits), and the JSON writes a
+// screen that did not run as null.
+TEST(Diagnose, TheScreensLinearisedGainsAreKeptPerCandidateAndFold) {
+  auto [d, o] = profiled_pitch_damping_case();
+  std::vector<std::string> lines;
+  const DiagnoseResult r = diagnose(d, o, [&](const DiagnoseProgress& p) { lines.push_back(p.message); });
+  const EffectResult *pd = nullptr, *wind = nullptr;
+  for (const auto& e : r.effects) (e.effect == Effect::PitchDamping ? pd : wind) = &e;
+  ASSERT_TRUE(pd && wind);
+  const std::size_t folds = r.fold_gliders.size();
+  ASSERT_EQ(folds, 3u);
+  for (const EffectResult* e : {pd, wind}) {
+    EXPECT_TRUE(std::isfinite(e->linearised_delta_chi2)) << e->name;
+    ASSERT_EQ(e->fold_linearised_delta_chi2.size(), folds) << e->name;
+    for (double g : e->fold_linearised_delta_chi2) EXPECT_TRUE(std::isfinite(g)) << e->name;
+  }
+  EXPECT_GT(pd->linearised_delta_chi2, wind->linearised_delta_chi2);
+  for (std::size_t k = 0; k < folds; ++k)
+    EXPECT_GT(pd->fold_linearised_delta_chi2[k], wind->fold_linearised_delta_chi2[k]) << "fold " << k + 1;
+  // The all-glider progress line names the stepped candidates with their gains.
+  const std::string line = "all gliders: candidates refitted from the linearised step with the centre values: ";
+  const std::string needle = "pitch_damping (linearised delta chi2 ";
+  bool seen = false;
+  for (const auto& l : lines) {
+    if (l.rfind(line, 0) != 0) continue;
+    const auto at = l.find(needle);
+    ASSERT_NE(at, std::string::npos) << l;
+    const double printed = std::stod(l.substr(at + needle.size()));
+    EXPECT_NEAR(pd->linearised_delta_chi2, printed, 5e-3 * std::abs(printed)) << l;
+    seen = true;
+  }
+  EXPECT_TRUE(seen) << "no all-glider screen line";
+  // JSON: the figures, and null where no screen ran.
+  DiagnoseResult copy = r;
+  const nlohmann::json j = diagnosis_json(copy, o);
+  for (const auto& e : j["effects"]) {
+    ASSERT_TRUE(e["linearised_delta_chi2"].is_number()) << e.dump();
+    ASSERT_EQ(e["fold_linearised_delta_chi2"].size(), folds) << e.dump();
+  }
+  for (auto& e : copy.effects) {
+    e.linearised_delta_chi2 = std::numeric_limits<double>::quiet_NaN();
+    e.fold_linearised_delta_chi2.assign(folds, std::numeric_limits<double>::quiet_NaN());
+  }
+  for (const auto& e : diagnosis_json(copy, o)["effects"]) {
+    EXPECT_TRUE(e["linearised_delta_chi2"].is_null()) << e.dump();
+    for (const auto& g : e["fold_linearised_delta_chi2"]) EXPECT_TRUE(g.is_null()) << e.dump();
+  }
+}
+
 // The verdict's strength: with no candidate refitted from its linearised
 // step (DiagnoseOptions::profiled_candidates = 0) the fits keep the
 // baseline's coefficients, which take part of the damping (about 0.93 at a

@@ -28,6 +28,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -422,6 +423,14 @@ struct EffectResult {
   /// (DiagnoseOptions::theory_starts)
   bool strength_held = false;
   std::vector<bool> fold_strength_held;
+  /// The profiled starts' screen (DiagnoseOptions::profile): the candidate's
+  /// linearised Delta chi2 over the baseline's own step on all gliders, and
+  /// on each fold's training gliders; NaN where no screen ran (a per-flight
+  /// candidate, profiled starts off, a fold without centre values). Kept so
+  /// that rules choosing among candidates by it (the leader's start) can be
+  /// replayed on stored results.
+  double linearised_delta_chi2 = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> fold_linearised_delta_chi2;
   // Likelihood-ratio test on all gliders (partial F-type: sigma_eff^2 = max(sigma^2, SSE_e / dof_e)).
   double delta_chi2 = 0;
   double p_value = 1;
