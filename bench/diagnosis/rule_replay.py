@@ -35,6 +35,7 @@ import gzip
 import json
 import math
 import os
+import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -302,6 +303,40 @@ RULES = [("as built", built), ("held-out alone for collinear effects", heldout_f
          ("likelihood ratios from a candidate's fit at 0", reference_rule)]
 
 
+def chi2_isf(p, dof):
+    """The chi-square quantile exceeded with probability p, for 1 or 2
+    degrees of freedom (the candidates' strengths, the camera's scale and
+    roll): z(p/2)^2 and -2 ln p exactly."""
+    if dof == 1:
+        z = statistics.NormalDist().inv_cdf(1 - p / 2)
+        return z * z
+    if dof == 2:
+        return -2 * math.log(p)
+    raise ValueError("chi2_isf: %d degrees of freedom" % dof)
+
+
+def screen_leaders(r):
+    """The all-glider screen's leaders from a stored result (the keys
+    `linearised_delta_chi2` exist since commit b3d9a3e): among the
+    candidates whose linearised gain passes the test's screen (over the
+    chi-square quantile at alpha / m, as the engine's leader), the one with
+    the largest gain (the leader as built) and the one whose fit to all
+    gliders is best (lowest fit_rmse_m, the alternative weighed on
+    2026-12-04). None when the result holds no gains or none passes."""
+    effects = r.get("effects", [])
+    if not any(isinstance(e.get("linearised_delta_chi2"), (int, float)) for e in effects):
+        return None
+    alpha = r.get("options", {}).get("alpha", 0.01)
+    m = len(effects)
+    passing = [e for e in effects if isinstance(e.get("linearised_delta_chi2"), (int, float)) and
+               e["linearised_delta_chi2"] > chi2_isf(alpha / m, max(1, len(e.get("parameters", {}))))]
+    if not passing:
+        return None
+    by_gain = max(passing, key=lambda e: e["linearised_delta_chi2"])
+    by_fit = min(passing, key=lambda e: e.get("fit_rmse_m", float("inf")))
+    return by_gain["name"], by_fit["name"]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+", help="directories holding case directories (searched recursively)")
@@ -434,6 +469,20 @@ def main(argv=None):
                                          " (right)" if v in c[2] else ""))
     if not changed:
         print("  none")
+    # The leader of the all-glider screen (the candidate whose fit there
+    # starts every fold's): by linearised gain as built, or by fit.
+    led = [(c, screen_leaders(c[4])) for c in cases if not c[3]]
+    led = [(c, l) for c, l in led if l is not None]
+    print("\nleader of the all-glider screen, by linearised gain (as built) and by fit to all gliders "
+          "(results with stored gains):")
+    for c, (by_gain, by_fit) in led:
+        print("  %s [%s]: by gain %s, by fit %s; verdict %s" % (c[1], c[4].get("bench_commit", "?"), by_gain, by_fit,
+                                                               c[4].get("verdict")))
+    if led:
+        print("  the truth leads: by gain %d of %d, by fit %d of %d" % (
+            sum(l[0] in c[2] for c, l in led), len(led), sum(l[1] in c[2] for c, l in led), len(led)))
+    else:
+        print("  none (no stored result holds the screen's gains)")
     return 0
 
 

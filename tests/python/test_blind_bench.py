@@ -323,6 +323,38 @@ def test_rule_replay_recomputes_the_bound_guard_from_stored_per_glider_figures(t
     assert "no longer another effect significant: pitch_damping-1-s7" in out
 
 
+def test_rule_replay_names_the_screens_leader_by_gain_and_by_fit(tmp_path, capsys):
+    # Worked out by hand, alpha 0.01 over 4 candidates: a strength passes the
+    # screen over chi2(1) at 0.0025, z(0.00125)^2 = 9.14; the camera (two
+    # values) over -2 ln 0.0025 = 11.98. Added mass leads by gain (60 against
+    # finite span's 40); the camera (11.5) and wind (5) do not pass, so
+    # finite span, fitted best of those that pass (1.2 cm against 1.3 cm),
+    # leads by fit although the camera fits better still.
+    assert rr.chi2_isf(0.0025, 1) == pytest.approx(9.1412, abs=1e-3)  # normal tables: z(0.00125) = 3.0233
+    assert rr.chi2_isf(0.0025, 2) == pytest.approx(11.983, abs=1e-3)
+
+    def eff(name, gain, fit, params=("strength",)):
+        e = _stored(name, False, 0.01, 1.0, False)
+        e.update(linearised_delta_chi2=gain, fit_rmse_m=fit, parameters={p: 0.0 for p in params})
+        return e
+    effects = [eff("finite_span", 40.0, 0.012), eff("added_mass", 60.0, 0.013),
+               eff("camera", 11.5, 0.010, ("scale_error", "roll_deg")), eff("wind", 5.0, 0.011, ("wind_m_s",))]
+    r = {"effects": effects, "options": {"min_shrink": 0.05, "alpha": 0.01}, "verdict": "unexplained"}
+    assert rr.screen_leaders(r) == ("added_mass", "finite_span")
+    # no gains stored (results before b3d9a3e), or none passes: no leader
+    assert rr.screen_leaders({"effects": [_stored("wind", False, 0.01, 1.0, False)]}) is None
+    assert rr.screen_leaders(dict(r, effects=[eff("wind", 5.0, 0.011), eff("launch_rotation", None, 0.01)])) is None
+    d = tmp_path / "finite_span-1-s5"
+    d.mkdir()
+    (d / "diagnosis.json").write_text(json.dumps(r))
+    _write_case(tmp_path, "camera-1-s6", [_stored("camera", True, 0.08, 40.0, True)])  # no gains: not listed
+    assert rr.main([str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "finite_span-1-s5 [?]: by gain added_mass, by fit finite_span; verdict unexplained" in out
+    assert "the truth leads: by gain 0 of 1, by fit 1 of 1" in out
+    assert "camera-1-s6 [?]: by gain" not in out
+
+
 def _rows_after(text, header):
     """The header cells and body rows (lists of cells) of the markdown table
     in `text` whose header line starts with `header`."""
