@@ -115,7 +115,7 @@ void write_report(const std::string& json_path, const std::string& dir, bool qui
 
 int run_diagnose(const std::vector<std::string>& argv) {
   const std::set<std::string> valued = {"--json", "--report", "--model", "--folds", "--effects", "--alpha",
-                                        "--min-shrink", "--none-tolerance", "--max-centres", "--threads",
+                                        "--min-shrink", "--none-tolerance", "--max-centres", "--insertion-tries", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--plausible", "--profile-min-gliders",
@@ -182,6 +182,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.none_tolerance = a.number("--none-tolerance", o.none_tolerance);
   if (!(o.none_tolerance >= 0) || !std::isfinite(o.none_tolerance)) throw InputError("--none-tolerance must not be negative");
   o.fit.max_centres = whole(a, "--max-centres", o.fit.max_centres, 1, 200);
+  o.fit.insertion_tries = whole(a, "--insertion-tries", o.fit.insertion_tries, 1, 1000);
   o.threads = whole(a, "--threads", 0, 0, 256);
   o.sim.ground_y = a.number("--ground-y", 0.0);
   if (!std::isfinite(o.sim.ground_y)) throw InputError("--ground-y must be a number");
@@ -300,6 +301,8 @@ const bool registered_diagnose = register_command(
          "  --none-tolerance T      'none' when the held-out chi-square ratio is <= 1 + T\n"
          "                          (default 0.3)\n"
          "  --max-centres N         RBF centres of the baseline fits (default 10)\n"
+         "  --insertion-tries N     experimental: centres tried per insertion of the coefficient fits\n"
+         "                          while they stay over twice the tracking noise (default 1)\n"
          "  --ground-y Y            dataset y of the ground [m] (default 0)\n"
          "  --launch-window S       launch phase: first S seconds tracked (default 0.25)\n"
          "  --near-ground M         near-ground phase: below M metres (default 0.3)\n"

@@ -41,7 +41,7 @@ nlohmann::json prediction_summary(const std::vector<FlightPrediction>& p) {
 int run_fit(const std::vector<std::string>& argv) {
   const std::set<std::string> valued = {"-o", "--json", "--max-centres", "--model", "--launch-points",
                                         "--min-improvement", "--rounds", "--iterations", "--robust",
-                                        "--regularisation", "--candidates", "--holdout", "--threads", "--stop",
+                                        "--regularisation", "--candidates", "--insertion-tries", "--holdout", "--threads", "--stop",
                                         "--dz", "--dt", "--integrator", "--note"};
   const Args a = parse_args(argv, valued, {"--quiet", "--no-prior", "--fit-pitch-rate"});
   if (a.positional.empty()) throw InputError("missing DATASET.json (see --help)");
@@ -71,6 +71,7 @@ int run_fit(const std::vector<std::string>& argv) {
   opt.robust_m = nonneg(a, "--robust", opt.robust_m);
   opt.regularisation_m = nonneg(a, "--regularisation", opt.regularisation_m);
   opt.candidates = whole(a, "--candidates", opt.candidates, 1, 1000);
+  opt.insertion_tries = whole(a, "--insertion-tries", opt.insertion_tries, 1, 1000);
   opt.threads = whole(a, "--threads", 0, 0, 256);
   opt.aero.dz = a.number("--dz", opt.aero.dz);
   if (!(opt.aero.dz > 0) || opt.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
@@ -203,6 +204,9 @@ const bool registered_fit = register_command(60,
        "  --rounds N             launch/coefficient alternations per centre count (default 3)\n"
        "  --iterations N         solver iterations per coefficient fit (default 12)\n"
        "  --candidates N         candidate centres scored per insertion (default 24)\n"
+       "  --insertion-tries N    experimental: where the best-scored centre is dropped while the fit\n"
+       "                         is over twice the tracking noise, try the next-best ones, N in all\n"
+       "                         (default 1: the greedy rule)\n"
        "  --robust M             Huber threshold on a point's distance [m] (default 0.3; 0 = off)\n"
        "  --regularisation M     pull of the values toward the prior [m] (default 0.01)\n"
        "  --holdout DATASET.json predict these flights with the fitted model, the flat-plate\n"

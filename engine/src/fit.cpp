@@ -799,19 +799,36 @@ FitResult Fitter::run() {
     int bestc = -1;
     double best_gain = -1;
     const double lam2 = o_.regularisation_m * o_.regularisation_m + 1e-12;
+    std::vector<std::pair<double, int>> ranked;  // (gain, candidate), for insertion_tries
     for (std::size_t c = 0; c < cand.size(); ++c) {
       const Eigen::Vector3d g = J[c].transpose() * base.r.head(nd);
       const Eigen::Matrix3d H = J[c].transpose() * J[c] + lam2 * Eigen::Matrix3d::Identity();
       const double gain = g.dot(H.ldlt().solve(g));
+      if (std::isfinite(gain)) ranked.push_back({gain, static_cast<int>(c)});
       if (std::isfinite(gain) && gain > best_gain) {
         best_gain = gain;
         bestc = static_cast<int>(c);
       }
     }
+    // The greedy choice first (the first of equal gains), then the others by gain.
+    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     insertion_seconds_ += since(t_ins);
     if (bestc < 0) {
       res.stop_reason = "no candidate centre can lower the error";
       break;
+    }
+    bool accepted_any = false;
+    for (int attempt = 0; attempt < std::max(1, o_.insertion_tries) && attempt < static_cast<int>(ranked.size());
+         ++attempt) {
+    if (attempt > 0) {
+      // The next-best scored candidate, from the accepted state.
+      if (!(d_.tracking_sigma_m > 0 && best_rmse > 2 * d_.tracking_sigma_m)) break;
+      bestc = ranked[attempt].second;
+      best_gain = ranked[attempt].first;
+      launches_ = best_L;
+      launch_rmse_ = best_lr;
+      sims0 = simulations_;
+      t_stage = Clock::now();
     }
     cs = ccs[bestc];
     ref = crefs[bestc];
@@ -844,14 +861,19 @@ FitResult Fitter::run() {
            std::to_string(K + 1) + " centres: RMSE " + fmt(rmse) + " m" + (ns.accepted ? "" : " (dropped: it " + why + ")"));
     if (!ns.accepted) {
       res.stop_reason = "the error stopped falling: centre " + std::to_string(K + 1) + " " + why;
-      break;
+      continue;  // the next candidate, where insertion_tries allows
     }
+    accepted_any = true;
     best_cs = cs;
     best_ref = ref;
     best_u = u;
     best_L = launches_;
     best_lr = launch_rmse_;
     best_rmse = rmse;
+    break;
+    }
+    if (!accepted_any) break;
+    res.stop_reason = "reached the maximum number of centres (" + std::to_string(o_.max_centres) + ")";
   }
 
   // Final state: the accepted model and its launches.
