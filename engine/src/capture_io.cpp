@@ -44,7 +44,6 @@ struct R {
 json mat3_json(const Mat3& m) {
   return json::array({json::array({m[0], m[1], m[2]}), json::array({m[3], m[4], m[5]}), json::array({m[6], m[7], m[8]})});
 }
-json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 Lens lens_from_json(const json& cam, const R& r, const std::string& path) {
   Lens l;

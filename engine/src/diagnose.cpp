@@ -3206,11 +3206,7 @@ json glider_map(const std::vector<std::pair<std::string, double>>& v) {
   for (const auto& [k, x] : v) m[k] = x;
   return m;
 }
-}  // namespace
-
-namespace {
-// A figure, or null where it was not computed (NaN).
-json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+// Figures, null where one was not computed (NaN).
 json nums_or_null(const std::vector<double>& v) {
   json out = json::array();
   for (double x : v) out.push_back(num_or_null(x));

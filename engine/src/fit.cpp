@@ -745,7 +745,8 @@ FitResult Fitter::run() {
   std::vector<LaunchParams> best_L = launches_;
   std::vector<double> best_lr = launch_rmse_;
   double best_rmse = rmse;
-  res.stop_reason = "reached the maximum number of centres (" + std::to_string(o_.max_centres) + ")";
+  const std::string reached_max = "reached the maximum number of centres (" + std::to_string(o_.max_centres) + ")";
+  res.stop_reason = reached_max;
   if (prior_only)
     res.stop_reason = "the error stopped falling: one centre does not fit the flights better than the prior by "
                       "more than its three values fit noise (BIC); the model equals the prior";
@@ -796,84 +797,78 @@ FitResult Fitter::run() {
       for (auto& m : J) Js.push_back(&m);
       project_out_launches(current, launches_, Js);
     }
-    int bestc = -1;
-    double best_gain = -1;
     const double lam2 = o_.regularisation_m * o_.regularisation_m + 1e-12;
-    std::vector<std::pair<double, int>> ranked;  // (gain, candidate), for insertion_tries
+    // The candidates by their scored gain, largest first; among equal gains
+    // the first scored (the greedy rule takes ranked[0]).
+    std::vector<std::pair<double, int>> ranked;  // (gain, candidate)
     for (std::size_t c = 0; c < cand.size(); ++c) {
       const Eigen::Vector3d g = J[c].transpose() * base.r.head(nd);
       const Eigen::Matrix3d H = J[c].transpose() * J[c] + lam2 * Eigen::Matrix3d::Identity();
       const double gain = g.dot(H.ldlt().solve(g));
       if (std::isfinite(gain)) ranked.push_back({gain, static_cast<int>(c)});
-      if (std::isfinite(gain) && gain > best_gain) {
-        best_gain = gain;
-        bestc = static_cast<int>(c);
-      }
     }
-    // The greedy choice first (the first of equal gains), then the others by gain.
     std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     insertion_seconds_ += since(t_ins);
-    if (bestc < 0) {
+    if (ranked.empty()) {
       res.stop_reason = "no candidate centre can lower the error";
       break;
     }
+    // The best-scored candidate; with insertion_tries, the next-best in turn
+    // while the fit stays over twice the tracking noise.
     bool accepted_any = false;
-    for (int attempt = 0; attempt < std::max(1, o_.insertion_tries) && attempt < static_cast<int>(ranked.size());
-         ++attempt) {
-    if (attempt > 0) {
-      // The next-best scored candidate, from the accepted state.
-      if (!(d_.tracking_sigma_m > 0 && best_rmse > 2 * d_.tracking_sigma_m)) break;
-      bestc = ranked[attempt].second;
-      best_gain = ranked[attempt].first;
-      launches_ = best_L;
-      launch_rmse_ = best_lr;
-      sims0 = simulations_;
-      t_stage = Clock::now();
-    }
-    cs = ccs[bestc];
-    ref = crefs[bestc];
-    u = cus[bestc];
-    FitStage ns;
-    ns.centres = K + 1;
-    ns.has_added = true;
-    ns.added = cs.back();
-    ns.predicted_gain = best_gain;
-    report("insert", K + 1, 0, 0, best_rmse,
-           "new centre at alpha " + fmt(rad2deg(ns.added.alpha), 3) + " deg, Re " + fmt(ns.added.re, 3) +
-               ", xi_l " + fmt(rad2deg(ns.added.xi_l), 3) + " deg, xi_t " + fmt(rad2deg(ns.added.xi_t), 3) + " deg");
-    rmse = fit_stage(u, cs, ref, ns);
-    ns.rmse_m = rmse;
-    ns.seconds = since(t_stage);
-    ns.simulations = static_cast<int>(simulations_ - sims0);
-    ns.bic = bic(rmse, K + 1);
-    const double best_bic = bic(best_rmse, K);
-    std::string why;
-    if (!(rmse < best_rmse)) why = "did not lower the RMSE";
-    else if (o_.information_criterion && !(ns.bic < best_bic))
-      why = "lowered the RMSE by " + fmt(100 * (1 - rmse / best_rmse), 2) +
-            " %, less than three more parameters gain on noise alone (BIC " + fmt(ns.bic, 6) + " >= " +
-            fmt(best_bic, 6) + ")";
-    else if (!(rmse < best_rmse * (1 - o_.min_improvement)))
-      why = "lowered the RMSE by less than " + fmt(100 * o_.min_improvement, 3) + " %";
-    ns.accepted = why.empty();
-    res.history.push_back(ns);
-    report("stage", K + 1, 0, 0, rmse,
-           std::to_string(K + 1) + " centres: RMSE " + fmt(rmse) + " m" + (ns.accepted ? "" : " (dropped: it " + why + ")"));
-    if (!ns.accepted) {
-      res.stop_reason = "the error stopped falling: centre " + std::to_string(K + 1) + " " + why;
-      continue;  // the next candidate, where insertion_tries allows
-    }
-    accepted_any = true;
-    best_cs = cs;
-    best_ref = ref;
-    best_u = u;
-    best_L = launches_;
-    best_lr = launch_rmse_;
-    best_rmse = rmse;
-    break;
+    const int tries = std::min(std::max(1, o_.insertion_tries), static_cast<int>(ranked.size()));
+    for (int attempt = 0; attempt < tries && !accepted_any; ++attempt) {
+      if (attempt > 0) {
+        if (!(d_.tracking_sigma_m > 0 && best_rmse > 2 * d_.tracking_sigma_m)) break;
+        launches_ = best_L;  // from the accepted state
+        launch_rmse_ = best_lr;
+        sims0 = simulations_;
+        t_stage = Clock::now();
+      }
+      const auto [best_gain, bestc] = ranked[attempt];
+      cs = ccs[bestc];
+      ref = crefs[bestc];
+      u = cus[bestc];
+      FitStage ns;
+      ns.centres = K + 1;
+      ns.has_added = true;
+      ns.added = cs.back();
+      ns.predicted_gain = best_gain;
+      report("insert", K + 1, 0, 0, best_rmse,
+             "new centre at alpha " + fmt(rad2deg(ns.added.alpha), 3) + " deg, Re " + fmt(ns.added.re, 3) +
+                 ", xi_l " + fmt(rad2deg(ns.added.xi_l), 3) + " deg, xi_t " + fmt(rad2deg(ns.added.xi_t), 3) + " deg");
+      rmse = fit_stage(u, cs, ref, ns);
+      ns.rmse_m = rmse;
+      ns.seconds = since(t_stage);
+      ns.simulations = static_cast<int>(simulations_ - sims0);
+      ns.bic = bic(rmse, K + 1);
+      const double best_bic = bic(best_rmse, K);
+      std::string why;
+      if (!(rmse < best_rmse)) why = "did not lower the RMSE";
+      else if (o_.information_criterion && !(ns.bic < best_bic))
+        why = "lowered the RMSE by " + fmt(100 * (1 - rmse / best_rmse), 2) +
+              " %, less than three more parameters gain on noise alone (BIC " + fmt(ns.bic, 6) + " >= " +
+              fmt(best_bic, 6) + ")";
+      else if (!(rmse < best_rmse * (1 - o_.min_improvement)))
+        why = "lowered the RMSE by less than " + fmt(100 * o_.min_improvement, 3) + " %";
+      ns.accepted = why.empty();
+      res.history.push_back(ns);
+      report("stage", K + 1, 0, 0, rmse,
+             std::to_string(K + 1) + " centres: RMSE " + fmt(rmse) + " m" + (ns.accepted ? "" : " (dropped: it " + why + ")"));
+      if (!ns.accepted) {
+        res.stop_reason = "the error stopped falling: centre " + std::to_string(K + 1) + " " + why;
+        continue;
+      }
+      accepted_any = true;
+      best_cs = cs;
+      best_ref = ref;
+      best_u = u;
+      best_L = launches_;
+      best_lr = launch_rmse_;
+      best_rmse = rmse;
     }
     if (!accepted_any) break;
-    res.stop_reason = "reached the maximum number of centres (" + std::to_string(o_.max_centres) + ")";
+    res.stop_reason = reached_max;  // a dropped try before the accepted one set another reason
   }
 
   // Final state: the accepted model and its launches.

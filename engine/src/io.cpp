@@ -70,6 +70,8 @@ struct Reader {
 
 }  // namespace
 
+json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
 json parse_json(const std::string& text, const std::string& what) {
   try {
     return json::parse(text);

@@ -82,4 +82,8 @@ std::vector<std::string> glider_files_in(const std::string& dir);
 /// NaN/Infinity literals, says that they are not valid JSON numbers.
 nlohmann::json parse_json(const std::string& text, const std::string& what);
 
+/// A figure for a JSON report, or null where it was not computed (NaN,
+/// infinite): JSON has no such numbers.
+nlohmann::json num_or_null(double v);
+
 }  // namespace pteromys
