@@ -6,6 +6,8 @@ so that they cannot drift from the counted figures:
 - the top-1 figure: the true effect's held-out shrink against its oracle's
   for every case of docs/diagnosis.md's top-1 table, marked by verdict,
   beside the confusion matrix recounted from the same table;
+- the tally at the issue's size (printed): the table's cases flown again
+  with every training glider (CASE-g20 in the archive) and their verdicts;
 - the strengths figure: the true effect's fitted strength on all gliders
   and in each fold, in the reference simulator's units (1 = the strength
   the data were made with), for the table's cases whose run at the table's
@@ -85,6 +87,33 @@ def strengths(rows, archive_dir):
                       "all": values(e.get("parameters", {})),
                       "folds": [values(p) for p in e.get("fold_parameters", [])]})
     return found, missing
+
+
+def wide_runs(rows, archive_dir):
+    """The table's cases flown again at the issue's size (run_blind.py's
+    CASE-g20, every training glider): for each table row, the archived runs
+    of its -g20 case (any commit). Returns a list of dicts case, effect,
+    narrow (the table's verdict), runs (a list of (commit, verdict, the true
+    effect's held-out shrink in percent)), in the table's order; rows with no
+    such run have runs == []."""
+    by_name = collections.defaultdict(list)
+    for name, p, r in rb.archived(archive_dir):
+        if name.endswith(rb.WIDE):
+            e = next((x for x in r.get("effects", []) if x["name"] == name.split("-")[0]), None)
+            shrink = 100.0 * e["shrink"] if e and e.get("shrink") is not None else float("nan")
+            by_name[name[:-len(rb.WIDE)]].append((os.path.basename(os.path.dirname(p)), r["verdict"], shrink))
+    return [{"case": row["case"], "effect": row["effect"], "narrow": row["verdict"], "runs": by_name.get(row["case"], [])}
+            for row in rows]
+
+
+def wide_tally(wide):
+    """(flown, named in every run, named in some run, not flown): the counts
+    of wide_runs' rows; a case flown more than once counts as named in
+    every run only if each of its runs names the true effect."""
+    flown = [w for w in wide if w["runs"]]
+    every = sum(1 for w in flown if all(v == w["effect"] for _, v, _ in w["runs"]))
+    some = sum(1 for w in flown if any(v == w["effect"] for _, v, _ in w["runs"]))
+    return len(flown), every, some, len(wide) - len(flown)
 
 
 def plot_top1(rows, path):
@@ -208,6 +237,16 @@ def main(argv=None):
     plot_top1(rows, p1)
     hits = sum(1 for r in rows if r["verdict"] == r["effect"])
     print("%s: %d cases, %d named right" % (p1, len(rows), hits))
+    wide = wide_runs(rows, a.archive)
+    flown, every, some, unflown = wide_tally(wide)
+    print("at the issue's size (%s, every training glider): %d of the table's %d cases flown, the true effect named "
+          "in %d (in every run of each; in some run: %d); %d not flown" % (rb.WIDE, flown, len(rows), every, some,
+                                                                          unflown))
+    for w in wide:
+        if w["runs"]:
+            print("  %-22s eight gliders: %-15s %s: %s" % (w["case"], w["narrow"], rb.WIDE, "; ".join(
+                "%s (%.1f %%, %s)" % (v, sh, c) for c, v, sh in w["runs"])))
+    print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
     found, missing = strengths(rows, a.archive)
     p2 = os.path.join(a.out, "blind_strengths.png")
     plot_strengths(found, len(rows), p2)

@@ -700,3 +700,34 @@ def test_the_blind_figures_are_drawn_from_the_documented_table_and_the_archive(t
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", name
     out = capsys.readouterr().out
     assert "%d cases, %d named right" % (len(rows), sum(m[e][e] for e in m)) in out
+
+
+def test_the_tally_at_the_issues_size_counts_each_table_case_by_its_wide_runs(tmp_path):
+    """plot_blind.wide_runs/wide_tally: the table's cases flown again with
+    every training glider (CASE-g20 archived). Worked out by hand: finite
+    span s1 flown twice (named, then not): named in some run, not in every
+    run; the camera s2 flown once and named; pitch damping s3 not flown; a
+    -g20 run of a case not in the table and an eight-glider run of a table
+    case are not counted."""
+    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
+    pb = importlib.util.module_from_spec(spec_pb)
+    spec_pb.loader.exec_module(pb)
+    arch = tmp_path / "runs"
+    for commit, name, verdict, shrink in (("aaa1111", "finite_span-1-s1-g20", "finite_span", 0.12),
+                                          ("bbb2222", "finite_span-1-s1-g20", "unexplained", 0.04),
+                                          ("aaa1111", "camera-1-s2-g20", "camera", 0.2),
+                                          ("aaa1111", "wind-1-s9-g20", "wind", 0.5),
+                                          ("aaa1111", "pitch_damping-1-s3", "pitch_damping", 0.3)):
+        out = tmp_path / ("out-" + commit)
+        _finished(out, name, commit, [dict(_stored(name.split("-")[0], True, shrink, 40.0, True))], verdict=verdict)
+        rb.archive(str(out), str(arch))
+    rows = [{"case": "finite_span-1-s1", "effect": "finite_span", "verdict": "none"},
+            {"case": "camera-1-s2", "effect": "camera", "verdict": "camera"},
+            {"case": "pitch_damping-1-s3", "effect": "pitch_damping", "verdict": "unexplained"}]
+    wide = pb.wide_runs(rows, str(arch))
+    assert [w["case"] for w in wide] == [r["case"] for r in rows]
+    assert sorted(wide[0]["runs"]) == [("aaa1111", "finite_span", pytest.approx(12.0)),
+                                       ("bbb2222", "unexplained", pytest.approx(4.0))]
+    assert wide[1]["runs"] == [("aaa1111", "camera", pytest.approx(20.0))] and wide[2]["runs"] == []
+    assert wide[0]["narrow"] == "none"
+    assert pb.wide_tally(wide) == (2, 1, 2, 1)
