@@ -121,6 +121,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   o.none_tolerance = num("none_tolerance", o.none_tolerance);
   o.collinearity_limit = num("collinearity_limit", o.collinearity_limit);
   o.fit.max_centres = whole("max_centres", o.fit.max_centres, 1, 200);
+  o.fit.insertion_tries = whole("insertion_tries", o.fit.insertion_tries, 1, 1000);
   o.polish = whole("polish", o.polish, 0, 100);
   o.profile_min_gliders = whole("profile_min_gliders", o.profile_min_gliders, 1, 100000);
   o.profiled_candidates = whole("profiled_candidates", o.profiled_candidates, 0, 100);

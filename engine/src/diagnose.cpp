@@ -3384,6 +3384,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                   {"ground_y_m", o.sim.ground_y},
                   {"dt_s", o.sim.dt},
                   {"max_centres", o.fit.max_centres},
+                  {"insertion_tries", o.fit.insertion_tries},
                   {"full_fit", o.full_fit},
                   {"polish", o.polish},
                   {"profile", o.profile},

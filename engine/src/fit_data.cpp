@@ -78,6 +78,7 @@ json fit_report_json(const FitResult& r, const FitOptions& o) {
                   {"max_rounds", o.max_rounds},
                   {"max_iterations", o.max_iterations},
                   {"candidates", o.candidates},
+                  {"insertion_tries", o.insertion_tries},
                   {"regularisation_m", o.regularisation_m},
                   {"robust_m", o.robust_m},
                   {"prior", r.model && r.model->prior() ? "flat_plate" : "none"},

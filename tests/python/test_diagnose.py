@@ -348,12 +348,13 @@ def test_null_data_give_no_discovery(tmp_path):
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     msgs = []
     # The held-out-led steps, the bound guard and the unstepped candidates'
-    # refit off and the second search asked for explicitly: the wrapper
-    # passes all four through (null data: nothing may be significant with or
-    # without them).
+    # refit off, the second search asked for explicitly and insertion tries
+    # on: the wrapper passes them all through (null data: nothing may be
+    # significant with or without them).
     j = pteromys.diagnose(ds, folds=3, max_centres=2, polish=0, threads=2, heldout_steps=False, escalate=False,
                           bound_guard=False, refit_unstepped=False, launch_withhold=False, launch_rates_confirm=False,
-                          progress=lambda p: msgs.append(p))
+                          insertion_tries=3, progress=lambda p: msgs.append(p))
+    assert j["options"]["insertion_tries"] == 3
     assert j["options"]["heldout_steps"] is False and j["options"]["escalate"] is False
     assert j["options"]["bound_guard"] is False
     assert j["options"]["launch_withhold"] is False and "withheld" not in j
@@ -680,6 +681,8 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--stability", "1"], "--stability"),
     (["diagnose", "DS", "--json", "OUT", "--stability", "8"], "--stability"),
     (["diagnose", "DS", "--json", "OUT", "--stability", "2.5"], "--stability"),
+    (["diagnose", "DS", "--json", "OUT", "--insertion-tries", "0"], "--insertion-tries"),
+    (["diagnose", "DS", "--json", "OUT", "--insertion-tries", "1.5"], "--insertion-tries"),
 ])
 def test_bad_input_is_rejected_with_one_line_and_no_output(tmp_path, args, words):
     ds = _generate(tmp_path, "d", "baseline") if "DS" in args else None
@@ -742,6 +745,14 @@ def test_python_call_refuses_a_bad_leader_reached(tmp_path, value):
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     with pytest.raises(Exception, match="leader_reached must be a number >= 0"):
         pteromys.diagnose(ds, folds=3, leader_reached=value)
+
+
+@pytest.mark.parametrize("value", [0, 2.5, 1001])
+def test_python_call_refuses_a_bad_insertion_tries(tmp_path, value):
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    with pytest.raises(Exception, match="insertion_tries must be a whole number between 1 and 1000"):
+        pteromys.diagnose(ds, folds=3, insertion_tries=value)
 
 
 def test_python_call_refuses_a_bad_oracle(tmp_path):

@@ -302,6 +302,19 @@ def test_insertion_tries_only_add_centres_the_stopping_rule_accepts(tmp_path):
     assert dropped and any(any("new centre at" in l for l in lines[i + 1:i + 3]) for i in dropped), out[8][1][-3000:]
     assert greedy["fit_rmse_m"] > 2 * 0.01  # the greedy fit stopped far from the noise, where tries apply
     assert tried["centres"] >= greedy["centres"]
+    assert greedy["options"]["insertion_tries"] == 1 and tried["options"]["insertion_tries"] == 8  # the report says so
     assert tried["fit_rmse_m"] <= greedy["fit_rmse_m"] * (1 + 1e-12)
     r = run(["fit", data / "train.json", "-o", tmp_path / "x.json", "--insertion-tries", "0"])
     assert r.returncode != 0 and "--insertion-tries" in r.stderr
+    # the Python call takes the option to the same fit: with tries its centres
+    # and RMSE are the command's with tries, not the greedy fit's
+    m, rep = pteromys.fit(data / "train.json", max_centres=8, threads=2, insertion_tries=8)
+    # (on these data the tries keep more centres than the greedy rule: 7
+    # against 4 when measured, so the two fits can be told apart)
+    assert tried["centres"] > greedy["centres"]
+    assert rep["centres"] == tried["centres"], (rep["centres"], tried["centres"], greedy["centres"])
+    assert rep["fit_rmse_m"] == pytest.approx(tried["fit_rmse_m"], rel=1e-9)
+    assert rep["options"]["insertion_tries"] == 8
+    for bad in (0, 1.5):
+        with pytest.raises(Exception, match="insertion_tries must be a whole number between 1 and 1000"):
+            pteromys.fit(data / "train.json", insertion_tries=bad)

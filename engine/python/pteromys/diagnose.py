@@ -20,8 +20,9 @@ __all__ = ["diagnose", "diagnosis_report", "effect_library", "glider_features", 
 
 def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.05,
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
-             full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25, near_ground_m=0.3,
-             worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True, profile_min_gliders=6,
+             insertion_tries=1, full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25,
+             near_ground_m=0.3, worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True,
+             profile_min_gliders=6,
              profiled_candidates=3, glider_guard=True, bound_guard=True, launch_withhold=True, launch_rates_confirm=True,
              launch_withhold_dominance=5.0,
              heldout_steps=True, heldout_fold_start=True, zeroed_reference=True, escalate=False,
@@ -84,12 +85,12 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     significantly worse (paired over gliders), the verdict names the latter
     (result key ``passed_over``).
     ``step_alpha``, ``carry_steps``, ``leader_start``, ``leader_reached``, ``heldout_fold_start``, ``theory_starts``,
-    ``hold_theory``,
+    ``hold_theory``, ``insertion_tries``,
     ``step_per_flight``, ``refit_unstepped``, ``oracle`` (e.g.
     ``"finite_span=1"``) and ``plausible`` (e.g. ``"camera=0.05:3"``) are
     the CLI's ``--step-alpha``, ``--carry-steps``/``--no-carry-steps``, ``--no-leader-start``,
     ``--leader-reached``, ``--no-heldout-fold-start``,
-    ``--theory-starts``, ``--hold-theory``, ``--step-per-flight``,
+    ``--theory-starts``, ``--hold-theory``, ``--insertion-tries``, ``--step-per-flight``,
     ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
     (docs/diagnosis.md, *Using it*).
     ``stability`` (default 0: none): run the diagnosis this many times in
@@ -110,6 +111,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     opts = dict(folds=folds, effects=list(effects) if effects is not None else None, trim=bool(trim), model=model,
                 alpha=alpha, min_shrink=min_shrink, holdout_chi2_test=bool(holdout_chi2_test),
                 none_tolerance=none_tolerance, collinearity_limit=collinearity_limit, max_centres=max_centres,
+                insertion_tries=insertion_tries,
                 polish=polish, full_fit=bool(full_fit), iterations=iterations, ground_y=ground_y, dt=dt,
                 launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),

@@ -19,7 +19,7 @@ __all__ = ["fit", "fit_launch", "simulate_track", "predict_flights", "synthetic_
 
 def fit(dataset, max_centres=10, model=None, use_prior=True, launch_points=0, fit_pitch_rate=False,
         stop="bic", min_improvement=0.0, rounds=3, iterations=12, candidates=24, robust_m=0.3, regularisation_m=0.01,
-        threads=0, dz=0.005, dt=0.002, progress=None):
+        threads=0, dz=0.005, dt=0.002, insertion_tries=1, progress=None):
     """Fit an RBF coefficient model to the flights of a dataset.
 
     ``model``: an RBF model (or path) to continue from, or a flat-plate model
@@ -27,7 +27,11 @@ def fit(dataset, max_centres=10, model=None, use_prior=True, launch_points=0, fi
     ``launch_points``: M of eq. 5 (0 = all points, the default; the paper
     uses 10). ``stop``: "bic" (keep a centre only if it lowers the Bayesian
     information criterion) or "none" (go on to ``max_centres``);
-    ``min_improvement``: an extra relative RMSE threshold. ``progress(dict)`` is called after every solver iteration with
+    ``min_improvement``: an extra relative RMSE threshold.
+    ``insertion_tries`` (default 1, the greedy rule; experimental): when the
+    best-scored centre is not kept while the fit is over twice the tracking
+    noise, fit up to this many next-best scored centres in turn before
+    stopping (the CLI's ``--insertion-tries``, docs/fitting.md). ``progress(dict)`` is called after every solver iteration with
     keys stage, centres, round, iteration, rmse_m, elapsed_s, message.
 
     Returns ``(model, report)``: a :class:`pteromys.Model` and the report dict
@@ -37,7 +41,7 @@ def fit(dataset, max_centres=10, model=None, use_prior=True, launch_points=0, fi
     opts = dict(max_centres=max_centres, launch_points=launch_points, fit_pitch_rate=bool(fit_pitch_rate),
                 stop=str(stop), min_improvement=min_improvement, rounds=rounds, iterations=iterations, candidates=candidates,
                 robust_m=robust_m, regularisation_m=regularisation_m, threads=threads, dz=dz, dt=dt,
-                use_prior=bool(use_prior), model=model)
+                use_prior=bool(use_prior), model=model, insertion_tries=insertion_tries)
     m, text = _core._fit(str(dataset), opts, progress)
     return m, _json.loads(text)
 
