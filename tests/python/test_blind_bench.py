@@ -731,3 +731,23 @@ def test_the_tally_at_the_issues_size_counts_each_table_case_by_its_wide_runs(tm
     assert wide[1]["runs"] == [("aaa1111", "camera", pytest.approx(20.0))] and wide[2]["runs"] == []
     assert wide[0]["narrow"] == "none"
     assert pb.wide_tally(wide) == (2, 1, 2, 1)
+
+
+def test_the_documented_20_glider_tally_is_the_archives_count():
+    """The 20-glider figure in docs/diagnosis.md's top-1 row is counted from
+    the archived CASE-g20 runs of the top-1 table's cases (plot_blind's
+    wide_tally over bench/diagnosis/runs), not carried forward in prose:
+    a run archived or a case re-flown changes the count, and the document
+    must follow."""
+    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
+    pb = importlib.util.module_from_spec(spec_pb)
+    spec_pb.loader.exec_module(pb)
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    rows = pb.top1_rows(text)
+    flown, every, some, unflown = pb.wide_tally(pb.wide_runs(rows, rb.ARCHIVE))
+    stated = re.search(r"\*\*At 20 gliders: (\d+) of the table's (\d+) cases flown, the true effect named in every "
+                       r"run of (\d+), in some run of (\d+)\.\*\*", text)
+    assert stated, "the 20-glider tally is missing from the top-1 row"
+    assert tuple(int(g) for g in stated.groups()) == (flown, len(rows), every, some)
+    row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
+    assert stated.group(0) in row
