@@ -75,13 +75,7 @@ json features_json(const GliderFeatures& f) {
 DiagnoseOptions options_from(const py::dict& kw) {
   DiagnoseOptions o;
   auto num = [&](const char* k, double def) { return kw.contains(k) && !kw[k].is_none() ? kw[k].cast<double>() : def; };
-  auto whole = [&](const char* k, int def, int lo, int hi) {
-    const double v = num(k, def);
-    if (v != std::floor(v) || v < lo || v > hi)
-      throw InputError(std::string(k) + " must be a whole number between " + std::to_string(lo) + " and " +
-                       std::to_string(hi));
-    return static_cast<int>(v);
-  };
+  auto whole = [&](const char* k, int def, int lo, int hi) { return whole_number(k, num(k, def), lo, hi); };
   o.folds = whole("folds", o.folds, 2, 1000);
   if (kw.contains("effects") && !kw["effects"].is_none()) {
     o.effects.clear();

@@ -1,7 +1,5 @@
 // Bindings: coefficient fitting from tracked flights (fit.hpp). The Python
 // wrappers with keyword documentation are in pteromys/fit.py.
-#include <cmath>
-
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -118,12 +116,7 @@ void bind_fit(py::module_& m) {
         o.max_rounds = static_cast<int>(num("rounds", o.max_rounds));
         o.max_iterations = static_cast<int>(num("iterations", o.max_iterations));
         o.candidates = static_cast<int>(num("candidates", o.candidates));
-        if (kw.contains("insertion_tries")) {
-          const double v = kw["insertion_tries"].cast<double>();
-          if (v != std::floor(v) || v < 1 || v > 1000)
-            throw InputError("insertion_tries must be a whole number between 1 and 1000");
-          o.insertion_tries = static_cast<int>(v);
-        }
+        o.insertion_tries = whole_number("insertion_tries", num("insertion_tries", o.insertion_tries), 1, 1000);
         o.robust_m = num("robust_m", o.robust_m);
         o.regularisation_m = num("regularisation_m", o.regularisation_m);
         o.threads = static_cast<int>(num("threads", 0));

@@ -1,6 +1,8 @@
 // pybind11 module pteromys._core: thin bindings of the engine. The Python
 // package `pteromys` (python/pteromys/__init__.py) wraps it.
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -23,6 +25,13 @@ Glider to_glider(const py::object& o) {
   }
   if (py::isinstance<py::str>(o)) return load_glider(o.cast<std::string>());
   throw InputError("expected a Glider, a glider dict (spec format) or a path to a .glider.json file");
+}
+
+int whole_number(const char* key, double v, int lo, int hi) {
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw InputError(std::string(key) + " must be a whole number between " + std::to_string(lo) + " and " +
+                     std::to_string(hi));
+  return static_cast<int>(v);
 }
 
 ModelPtr to_model(const py::object& o) {
