@@ -1,5 +1,7 @@
 // Bindings: coefficient fitting from tracked flights (fit.hpp). The Python
 // wrappers with keyword documentation are in pteromys/fit.py.
+#include <cmath>
+
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -103,8 +105,10 @@ void bind_fit(py::module_& m) {
         FitOptions o;
         auto num = [&](const char* k, double def) { return kw.contains(k) ? kw[k].cast<double>() : def; };
         auto flag = [&](const char* k, bool def) { return kw.contains(k) ? kw[k].cast<bool>() : def; };
-        o.max_centres = static_cast<int>(num("max_centres", o.max_centres));
-        o.launch.points = static_cast<int>(num("launch_points", o.launch.points));
+        o.max_centres = whole_number("max_centres", num("max_centres", o.max_centres), 1, 200);
+        o.launch.points = whole_number("launch_points", num("launch_points", o.launch.points), 0, 100000);
+        if (o.launch.points > 0 && o.launch.points < 3)
+          throw InputError("launch_points must be 0 (all points) or at least 3");
         o.launch.fit_pitch_rate = flag("fit_pitch_rate", false);
         o.min_improvement = num("min_improvement", o.min_improvement);
         if (kw.contains("stop")) {
@@ -113,17 +117,20 @@ void bind_fit(py::module_& m) {
           else if (stop != "bic") throw InputError("stop must be 'bic' or 'none'");
         }
         if (!(o.min_improvement >= 0) || o.min_improvement >= 1) throw InputError("min_improvement must be in [0, 1)");
-        o.max_rounds = static_cast<int>(num("rounds", o.max_rounds));
-        o.max_iterations = static_cast<int>(num("iterations", o.max_iterations));
-        o.candidates = static_cast<int>(num("candidates", o.candidates));
+        o.max_rounds = whole_number("rounds", num("rounds", o.max_rounds), 1, 100);
+        o.max_iterations = whole_number("iterations", num("iterations", o.max_iterations), 1, 10000);
+        o.candidates = whole_number("candidates", num("candidates", o.candidates), 1, 1000);
         o.insertion_tries = whole_number("insertion_tries", num("insertion_tries", o.insertion_tries), 1, 1000);
         o.robust_m = num("robust_m", o.robust_m);
         o.regularisation_m = num("regularisation_m", o.regularisation_m);
-        o.threads = static_cast<int>(num("threads", 0));
+        if (!(o.robust_m >= 0) || !std::isfinite(o.robust_m)) throw InputError("robust_m must be a length >= 0 (m)");
+        if (!(o.regularisation_m >= 0) || !std::isfinite(o.regularisation_m))
+          throw InputError("regularisation_m must be a length >= 0 (m)");
+        o.threads = whole_number("threads", num("threads", 0), 0, 256);
         o.aero.dz = num("dz", o.aero.dz);
         o.launch.track.sim.dt = num("dt", o.launch.track.sim.dt);
-        if (!(o.aero.dz > 0) || !(o.launch.track.sim.dt > 0) || o.launch.track.sim.dt > 0.05)
-          throw InputError("dz and dt must be positive (dt at most 0.05 s)");
+        if (!(o.aero.dz > 0) || o.aero.dz > 0.1) throw InputError("dz must be in (0, 0.1] m");
+        if (!(o.launch.track.sim.dt > 0) || o.launch.track.sim.dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
         o.use_prior = flag("use_prior", true);
         if (kw.contains("model") && !kw["model"].is_none()) {
           const ModelPtr sm = to_model(kw["model"]);

@@ -225,6 +225,34 @@ def test_bad_options_are_rejected_before_work(dataset, tmp_path):
     assert not any(p.name.startswith("m.json") for p in tmp_path.iterdir())
 
 
+@pytest.mark.parametrize("key, value, words", [
+    ("max_centres", 0, "max_centres must be a whole number between 1 and 200"),
+    ("max_centres", 1.9, "max_centres must be a whole number between 1 and 200"),  # was cut to 1 silently
+    ("max_centres", 1e12, "max_centres must be a whole number between 1 and 200"),  # beyond an int
+    ("launch_points", 2, "launch_points must be 0 \\(all points\\) or at least 3"),
+    ("launch_points", -1, "launch_points must be a whole number between 0 and 100000"),
+    ("rounds", 0, "rounds must be a whole number between 1 and 100"),
+    ("rounds", 2.5, "rounds must be a whole number between 1 and 100"),
+    ("iterations", 0, "iterations must be a whole number between 1 and 10000"),
+    ("candidates", float("nan"), "candidates must be a whole number between 1 and 1000"),
+    ("threads", -1, "threads must be a whole number between 0 and 256"),
+    ("threads", 0.5, "threads must be a whole number between 0 and 256"),
+    ("robust_m", -1.0, "robust_m must be a length >= 0"),
+    ("robust_m", float("nan"), "robust_m must be a length >= 0"),
+    ("regularisation_m", float("inf"), "regularisation_m must be a length >= 0"),
+    ("dz", 0.2, "dz must be in \\(0, 0.1\\] m"),
+    ("dt", 0.1, "dt must be in \\(0, 0.05\\] s"),
+])
+def test_python_fit_refuses_the_options_the_command_line_refuses(dataset, key, value, words):
+    # the command line's bounds (pteromys fit --help); the binding used to cut
+    # a fraction to a whole number and take zero or negative counts. Refused
+    # before any work: the progress callback is never called.
+    seen = []
+    with pytest.raises(Exception, match=words):
+        pteromys.fit(dataset, progress=seen.append, **{key: value})
+    assert not seen
+
+
 def test_python_fit_reports_progress_and_returns_a_model(dataset):
     seen = []
     model, rep = pteromys.fit(dataset, max_centres=1, threads=2, progress=seen.append)
