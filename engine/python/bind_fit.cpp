@@ -248,20 +248,25 @@ void bind_fit(py::module_& m) {
         const ModelPtr m = to_model(model);
         SyntheticOptions o;
         auto num = [&](const char* k, double def) { return kw.contains(k) ? kw[k].cast<double>() : def; };
-        o.flights_per_glider = static_cast<int>(num("flights_per_glider", o.flights_per_glider));
+        o.flights_per_glider = whole_number("flights_per_glider", num("flights_per_glider", o.flights_per_glider), 1, 10000);
         o.speed_min = num("speed_min", o.speed_min);
         o.speed_max = num("speed_max", o.speed_max);
         o.climb_min_deg = num("climb_min_deg", o.climb_min_deg);
         o.climb_max_deg = num("climb_max_deg", o.climb_max_deg);
         o.alpha_min_deg = num("alpha_min_deg", o.alpha_min_deg);
         o.alpha_max_deg = num("alpha_max_deg", o.alpha_max_deg);
-        o.points_min = static_cast<int>(num("points_min", o.points_min));
-        o.points_max = static_cast<int>(num("points_max", o.points_max));
+        o.points_min = whole_number("points_min", num("points_min", o.points_min), 6, 100000);
+        o.points_max = whole_number("points_max", num("points_max", o.points_max), 6, 100000);
         o.frame_rate_hz = num("frame_rate_hz", o.frame_rate_hz);
         o.delay_max_s = num("delay_max_s", o.delay_max_s);
         o.noise_m = num("noise_m", o.noise_m);
         o.height = num("height", o.height);
-        o.seed = static_cast<unsigned>(num("seed", o.seed));
+        {
+          const double seed = num("seed", o.seed);
+          if (!(seed >= 0) || seed != std::floor(seed) || seed > 4294967295.0)
+            throw InputError("seed must be a whole number from 0 to 4294967295");
+          o.seed = static_cast<unsigned>(seed);
+        }
         Dataset d;
         {
           py::gil_scoped_release nogil;

@@ -253,6 +253,22 @@ def test_python_fit_refuses_the_options_the_command_line_refuses(dataset, key, v
     assert not seen
 
 
+@pytest.mark.parametrize("options, words", [
+    ({"flights_per_glider": 2.5}, "flights_per_glider must be a whole number between 1 and 10000"),
+    ({"flights_per_glider": 0}, "flights_per_glider must be a whole number between 1 and 10000"),
+    ({"points_min": 5}, "points_min must be a whole number between 6 and 100000"),
+    ({"points_max": 20.5}, "points_max must be a whole number between 6 and 100000"),
+    ({"seed": -1}, "seed must be a whole number from 0 to 4294967295"),
+    ({"seed": 1.5}, "seed must be a whole number from 0 to 4294967295"),
+    ({"flight_per_glider": 3}, "unknown option\\(s\\) flight_per_glider"),  # misspelt: was dropped silently
+])
+def test_synthetic_dataset_refuses_bad_options_and_writes_nothing(tmp_path, options, words):
+    out = tmp_path / "ds"
+    with pytest.raises(Exception, match=words):
+        pteromys.synthetic_dataset({"rect": GLIDERS["rect"]}, str(out), model=pteromys.flat_plate_model(), **options)
+    assert not out.exists() or not any(out.iterdir())
+
+
 def test_python_fit_reports_progress_and_returns_a_model(dataset):
     seen = []
     model, rep = pteromys.fit(dataset, max_centres=1, threads=2, progress=seen.append)

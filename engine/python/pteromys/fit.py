@@ -90,4 +90,9 @@ def synthetic_dataset(gliders, out_dir, model=None, **options):
     release state is in the extra columns release_*. Returns the path of
     the dataset.json written in ``out_dir``.
     """
+    known = {"flights_per_glider", "speed_min", "speed_max", "climb_min_deg", "climb_max_deg", "alpha_min_deg",
+             "alpha_max_deg", "points_min", "points_max", "frame_rate_hz", "delay_max_s", "noise_m", "height", "seed"}
+    unknown = sorted(set(options) - known)
+    if unknown:  # a misspelt option would otherwise be dropped and its default used
+        raise ValueError("synthetic_dataset: unknown option(s) %s; known: %s" % (", ".join(unknown), ", ".join(sorted(known))))
     return _core._synthetic_dataset(dict(gliders), str(out_dir), model, options)
