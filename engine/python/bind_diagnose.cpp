@@ -131,6 +131,9 @@ DiagnoseOptions options_from(const py::dict& kw) {
     o.plausible = plausible_from(kw["plausible"].cast<std::string>(), "plausible");
   o.threads = whole("threads", 0, 0, 256);
   o.sim.ground_y = num("ground_y", 0.0);
+  if (!std::isfinite(o.sim.ground_y)) throw InputError("ground_y must be a finite number (m)");
+  if (!(o.collinearity_limit > 0 && o.collinearity_limit <= 1))
+    throw InputError("collinearity_limit must be in (0, 1] (a cosine)");
   o.sim.dt = num("dt", o.sim.dt);
   o.sim.max_iterations = whole("iterations", o.sim.max_iterations, 1, 1000);
   o.launch_window_s = num("launch_window_s", o.launch_window_s);

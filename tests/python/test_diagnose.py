@@ -755,6 +755,21 @@ def test_python_call_refuses_a_bad_insertion_tries(tmp_path, value):
         pteromys.diagnose(ds, folds=3, insertion_tries=value)
 
 
+@pytest.mark.parametrize("key, value, words", [
+    ("ground_y", float("nan"), "ground_y must be a finite number"),
+    ("ground_y", float("inf"), "ground_y must be a finite number"),
+    ("collinearity_limit", 0.0, "collinearity_limit must be in \\(0, 1\\]"),
+    ("collinearity_limit", 1.5, "collinearity_limit must be in \\(0, 1\\]"),
+    ("collinearity_limit", float("nan"), "collinearity_limit must be in \\(0, 1\\]"),
+])
+def test_python_call_refuses_a_bad_ground_or_collinearity_limit(tmp_path, key, value, words):
+    # the command line refuses a non-finite --ground-y; the binding took it
+    import pteromys
+    ds = _generate(tmp_path, "null", "baseline", seed=8)
+    with pytest.raises(Exception, match=words):
+        pteromys.diagnose(ds, folds=3, **{key: value})
+
+
 def test_python_call_refuses_a_bad_oracle(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "null", "baseline", seed=8)
