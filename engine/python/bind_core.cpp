@@ -1,4 +1,6 @@
 // Bindings: glider, mass, elements, coefficient models, forces, flight, report.
+#include <cmath>
+
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -9,13 +11,21 @@ namespace pteromys::python {
 
 namespace {
 
+// A launch value from Python: NaN or infinity is refused here, naming the
+// keyword, rather than flown into a "diverged" flight.
+double finite_value(const char* key, double v) {
+  if (!std::isfinite(v)) throw InputError(std::string(key) + " must be a finite number");
+  return v;
+}
+
 SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every) {
   SimOptions o;
   if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
   if (!(t_max > 0)) throw InputError("t_max must be positive");
   o.dt = dt;
   o.t_max = t_max;
-  o.record_every = std::max(1, record_every);
+  if (record_every < 1) throw InputError("record_every must be at least 1 (every step)");
+  o.record_every = record_every;
   if (integrator == "verlet") o.integrator = Integrator::Verlet;
   else if (integrator == "rk4") o.integrator = Integrator::RK4;
   else throw InputError("integrator must be 'verlet' or 'rk4'");
@@ -189,7 +199,7 @@ void bind_core(py::module_& m) {
         AeroOptions ao;
         ao.dz = dz;
         AnalysisOptions opt;
-        opt.launch_height = height;
+        opt.launch_height = finite_value("height", height);
         opt.sim = sim_options(dt, 20.0, integrator, record_every);
         Flyability f;
         {
@@ -217,14 +227,15 @@ void bind_core(py::module_& m) {
         AeroOptions ao;
         ao.dz = dz;
         Launch l;
-        l.speed = speed;
-        l.climb_deg = climb_deg;
-        l.height = height;
+        l.speed = finite_value("speed", speed);
+        if (l.speed < 0) throw InputError("speed must not be negative (m/s; the launch is along +x)");
+        l.climb_deg = finite_value("climb_deg", climb_deg);
+        l.height = finite_value("height", height);
         if (!pitch_deg.is_none()) {
           l.pitch_from_path = false;
-          l.pitch_deg = pitch_deg.cast<double>();
+          l.pitch_deg = finite_value("pitch_deg", pitch_deg.cast<double>());
         }
-        l.pitch_rate_deg_s = pitch_rate_deg_s;
+        l.pitch_rate_deg_s = finite_value("pitch_rate_deg_s", pitch_rate_deg_s);
         const SimOptions so = sim_options(dt, t_max, integrator, record_every);
         Flight f;
         {

@@ -37,6 +37,29 @@ def test_bad_glider_raises_input_error_with_reason():
     assert any("does not touch" in p for p in pteromys.validation_problems(d))
 
 
+@pytest.mark.parametrize("kw, words", [
+    ({"speed": float("nan")}, "speed must be a finite number"),
+    ({"speed": -5.0}, "speed must not be negative"),
+    ({"climb_deg": float("nan")}, "climb_deg must be a finite number"),
+    ({"height": float("inf")}, "height must be a finite number"),
+    ({"pitch_deg": float("nan")}, "pitch_deg must be a finite number"),
+    ({"pitch_rate_deg_s": float("-inf")}, "pitch_rate_deg_s must be a finite number"),
+    ({"record_every": 0}, "record_every must be at least 1"),
+])
+def test_simulate_refuses_a_launch_it_cannot_fly(kw, words):
+    # a NaN launch used to come back as a flight that "diverged (non-finite
+    # state) at t = 0.002 s", which blames the simulation for the input
+    with pytest.raises(pteromys.InputError, match=words):
+        pteromys.simulate(EXAMPLES[0], **kw)
+
+
+def test_evaluate_refuses_a_non_finite_height_and_a_zero_record_step():
+    with pytest.raises(pteromys.InputError, match="height must be a finite number"):
+        pteromys.evaluate(EXAMPLES[0], height=float("nan"))
+    with pytest.raises(pteromys.InputError, match="record_every must be at least 1"):
+        pteromys.evaluate(EXAMPLES[0], record_every=0)
+
+
 def test_slice_wing_areas_sum_to_planform():
     g = load(EXAMPLES[0])
     outline = np.array(g["wings"][0]["outline_m"])
