@@ -18,6 +18,12 @@ double finite_value(const char* key, double v) {
   return v;
 }
 
+// The launch height, as the command line takes it (--height).
+double launch_height(double v) {
+  if (!(finite_value("height", v) >= 0) || v > 100) throw InputError("height must be between 0 and 100 m");
+  return v;
+}
+
 SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every) {
   SimOptions o;
   if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
@@ -199,7 +205,7 @@ void bind_core(py::module_& m) {
         AeroOptions ao;
         ao.dz = dz;
         AnalysisOptions opt;
-        opt.launch_height = finite_value("height", height);
+        opt.launch_height = launch_height(height);
         opt.sim = sim_options(dt, 20.0, integrator, record_every);
         Flyability f;
         {
@@ -230,7 +236,7 @@ void bind_core(py::module_& m) {
         l.speed = finite_value("speed", speed);
         if (l.speed < 0) throw InputError("speed must not be negative (m/s; the launch is along +x)");
         l.climb_deg = finite_value("climb_deg", climb_deg);
-        l.height = finite_value("height", height);
+        l.height = launch_height(height);
         if (!pitch_deg.is_none()) {
           l.pitch_from_path = false;
           l.pitch_deg = finite_value("pitch_deg", pitch_deg.cast<double>());

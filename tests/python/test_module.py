@@ -42,6 +42,7 @@ def test_bad_glider_raises_input_error_with_reason():
     ({"speed": -5.0}, "speed must not be negative"),
     ({"climb_deg": float("nan")}, "climb_deg must be a finite number"),
     ({"height": float("inf")}, "height must be a finite number"),
+    ({"height": -1.0}, "height must be between 0 and 100 m"),  # as the command line's --height
     ({"pitch_deg": float("nan")}, "pitch_deg must be a finite number"),
     ({"pitch_rate_deg_s": float("-inf")}, "pitch_rate_deg_s must be a finite number"),
     ({"record_every": 0}, "record_every must be at least 1"),
@@ -56,6 +57,8 @@ def test_simulate_refuses_a_launch_it_cannot_fly(kw, words):
 def test_evaluate_refuses_a_non_finite_height_and_a_zero_record_step():
     with pytest.raises(pteromys.InputError, match="height must be a finite number"):
         pteromys.evaluate(EXAMPLES[0], height=float("nan"))
+    with pytest.raises(pteromys.InputError, match="height must be between 0 and 100 m"):
+        pteromys.evaluate(EXAMPLES[0], height=150.0)
     with pytest.raises(pteromys.InputError, match="record_every must be at least 1"):
         pteromys.evaluate(EXAMPLES[0], record_every=0)
 
