@@ -731,6 +731,34 @@ def test_the_tally_at_the_issues_size_counts_each_table_case_by_its_wide_runs(tm
     assert wide[1]["runs"] == [("aaa1111", "camera", pytest.approx(20.0))] and wide[2]["runs"] == []
     assert wide[0]["narrow"] == "none"
     assert pb.wide_tally(wide) == (2, 1, 2, 1)
+    assert wide[1]["oracles"] == {} and pb.wide_under_margin(wide) == []  # no oracle: not known, not excluded
+
+
+def test_a_case_whose_oracle_at_20_gliders_is_under_the_margin_is_listed(tmp_path):
+    """wide_under_margin: a -g20 run made with the oracle whose oracle
+    closes less than the 5 % margin (4.2 %, as the camera s24's did) is
+    listed; one whose oracle reaches it (6 %) and one without an oracle are
+    not; a case with two oracle runs is listed only if both are under."""
+    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
+    pb = importlib.util.module_from_spec(spec_pb)
+    spec_pb.loader.exec_module(pb)
+    arch = tmp_path / "runs"
+    for commit, name, oracle in (("aaa1111", "camera-1-s2-g20", 0.042), ("aaa1111", "finite_span-1-s1-g20", 0.06),
+                                 ("aaa1111", "wind-1-s4-g20", None), ("aaa1111", "pitch_damping-1-s3-g20", 0.03),
+                                 ("bbb2222", "pitch_damping-1-s3-g20", 0.07)):
+        out = tmp_path / ("out-" + commit + name)
+        _finished(out, name, commit, [dict(_stored(name.split("-")[0], True, 0.03, 40.0, False))], verdict="none")
+        if oracle is not None:
+            d = json.loads((out / name / "diagnosis.json").read_text())
+            d["oracle"] = {"shrink": oracle}
+            (out / name / "diagnosis.json").write_text(json.dumps(d))
+        rb.archive(str(out), str(arch))
+    rows = [{"case": c, "effect": c.split("-")[0], "verdict": "none"}
+            for c in ("finite_span-1-s1", "camera-1-s2", "pitch_damping-1-s3", "wind-1-s4")]
+    wide = pb.wide_runs(rows, str(arch))
+    assert wide[1]["oracles"] == {"aaa1111": pytest.approx(4.2)}
+    assert wide[2]["oracles"] == {"aaa1111": pytest.approx(3.0), "bbb2222": pytest.approx(7.0)}
+    assert pb.wide_under_margin(wide) == ["camera-1-s2"]
 
 
 def test_the_documented_20_glider_tally_is_the_archives_count():
