@@ -27,7 +27,9 @@ double launch_height(double v) {
 SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every) {
   SimOptions o;
   if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
-  if (!(t_max > 0)) throw InputError("t_max must be positive");
+  // (the samples are reserved for t_max / dt steps: an infinite t_max was
+  // undefined behaviour, a huge one an allocation failure)
+  if (!(t_max > 0) || t_max > 600) throw InputError("t_max must be in (0, 600] s");
   o.dt = dt;
   o.t_max = t_max;
   if (record_every < 1) throw InputError("record_every must be at least 1 (every step)");
@@ -236,7 +238,8 @@ void bind_core(py::module_& m) {
         l.speed = finite_value("speed", speed);
         if (l.speed < 0) throw InputError("speed must not be negative (m/s; the launch is along +x)");
         l.climb_deg = finite_value("climb_deg", climb_deg);
-        l.height = launch_height(height);
+        l.height = finite_value("height", height);  // one launch, any height (a drop from a hill)
+        if (l.height < 0) throw InputError("height must not be negative (m above the ground)");
         if (!pitch_deg.is_none()) {
           l.pitch_from_path = false;
           l.pitch_deg = finite_value("pitch_deg", pitch_deg.cast<double>());

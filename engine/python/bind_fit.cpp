@@ -101,8 +101,7 @@ std::unique_ptr<AeroOf> aero_of(const Glider& g, const py::object& model, bool b
 
 void bind_fit(py::module_& m) {
   m.def("_fit", [](const std::string& dataset, const py::dict& kw, const py::object& progress) {
-        const Dataset d = load_dataset(dataset);
-        FitOptions o;
+        FitOptions o;  // every option checked before the dataset is read, as the command does
         auto num = [&](const char* k, double def) { return kw.contains(k) ? kw[k].cast<double>() : def; };
         auto flag = [&](const char* k, bool def) { return kw.contains(k) ? kw[k].cast<bool>() : def; };
         o.max_centres = whole_number("max_centres", num("max_centres", o.max_centres), 1, 200);
@@ -117,6 +116,8 @@ void bind_fit(py::module_& m) {
           else if (stop != "bic") throw InputError("stop must be 'bic' or 'none'");
         }
         if (!(o.min_improvement >= 0) || o.min_improvement >= 1) throw InputError("min_improvement must be in [0, 1)");
+        if (!o.information_criterion && o.min_improvement > 0)
+          throw InputError("stop='none' keeps every centre; drop min_improvement");  // as --stop none
         o.max_rounds = whole_number("rounds", num("rounds", o.max_rounds), 1, 100);
         o.max_iterations = whole_number("iterations", num("iterations", o.max_iterations), 1, 10000);
         o.candidates = whole_number("candidates", num("candidates", o.candidates), 1, 1000);
@@ -138,6 +139,7 @@ void bind_fit(py::module_& m) {
           else if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(sm)) o.prior = fp->params();
           else throw InputError("model must be an RBF or flat-plate model");
         }
+        const Dataset d = load_dataset(dataset);
         FitCallback cb;
         if (!progress.is_none())
           cb = [progress](const FitProgress& p) {
@@ -257,6 +259,7 @@ void bind_fit(py::module_& m) {
         o.alpha_max_deg = num("alpha_max_deg", o.alpha_max_deg);
         o.points_min = whole_number("points_min", num("points_min", o.points_min), 6, 100000);
         o.points_max = whole_number("points_max", num("points_max", o.points_max), 6, 100000);
+        if (o.points_max < o.points_min) throw InputError("points_max is below points_min");
         o.frame_rate_hz = num("frame_rate_hz", o.frame_rate_hz);
         o.delay_max_s = num("delay_max_s", o.delay_max_s);
         o.noise_m = num("noise_m", o.noise_m);

@@ -242,15 +242,21 @@ def test_bad_options_are_rejected_before_work(dataset, tmp_path):
     ("regularisation_m", float("inf"), "regularisation_m must be a length >= 0"),
     ("dz", 0.2, "dz must be in \\(0, 0.1\\] m"),
     ("dt", 0.1, "dt must be in \\(0, 0.05\\] s"),
+    ("min_improvement", 0.1, "stop='none' keeps every centre; drop min_improvement"),  # with stop none, below
 ])
 def test_python_fit_refuses_the_options_the_command_line_refuses(dataset, key, value, words):
     # the command line's bounds (pteromys fit --help); the binding used to cut
     # a fraction to a whole number and take zero or negative counts. Refused
     # before any work: the progress callback is never called.
     seen = []
-    with pytest.raises(Exception, match=words):
-        pteromys.fit(dataset, progress=seen.append, **{key: value})
+    extra = {"stop": "none"} if key == "min_improvement" else {}
+    with pytest.raises(pteromys.InputError, match=words):
+        pteromys.fit(dataset, progress=seen.append, **extra, **{key: value})
     assert not seen
+    # checked before the dataset is read, as the command checks: a missing
+    # dataset is not what is reported
+    with pytest.raises(pteromys.InputError, match=words):
+        pteromys.fit("/nonexistent/dataset.json", **extra, **{key: value})
 
 
 @pytest.mark.parametrize("options, words", [
@@ -260,11 +266,12 @@ def test_python_fit_refuses_the_options_the_command_line_refuses(dataset, key, v
     ({"points_max": 20.5}, "points_max must be a whole number between 6 and 100000"),
     ({"seed": -1}, "seed must be a whole number from 0 to 4294967295"),
     ({"seed": 1.5}, "seed must be a whole number from 0 to 4294967295"),
+    ({"points_min": 20, "points_max": 10}, "points_max is below points_min"),
     ({"flight_per_glider": 3}, "unknown option\\(s\\) flight_per_glider"),  # misspelt: was dropped silently
 ])
 def test_synthetic_dataset_refuses_bad_options_and_writes_nothing(tmp_path, options, words):
     out = tmp_path / "ds"
-    with pytest.raises(Exception, match=words):
+    with pytest.raises(pteromys.InputError, match=words):
         pteromys.synthetic_dataset({"rect": GLIDERS["rect"]}, str(out), model=pteromys.flat_plate_model(), **options)
     assert not out.exists() or not any(out.iterdir())
 

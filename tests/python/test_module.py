@@ -42,7 +42,9 @@ def test_bad_glider_raises_input_error_with_reason():
     ({"speed": -5.0}, "speed must not be negative"),
     ({"climb_deg": float("nan")}, "climb_deg must be a finite number"),
     ({"height": float("inf")}, "height must be a finite number"),
-    ({"height": -1.0}, "height must be between 0 and 100 m"),  # as the command line's --height
+    ({"height": -1.0}, "height must not be negative"),
+    ({"t_max": float("inf")}, "t_max must be in \\(0, 600\\] s"),  # reserved t_max / dt samples: was undefined
+    ({"t_max": 1e6}, "t_max must be in \\(0, 600\\] s"),
     ({"pitch_deg": float("nan")}, "pitch_deg must be a finite number"),
     ({"pitch_rate_deg_s": float("-inf")}, "pitch_rate_deg_s must be a finite number"),
     ({"record_every": 0}, "record_every must be at least 1"),
@@ -52,6 +54,16 @@ def test_simulate_refuses_a_launch_it_cannot_fly(kw, words):
     # state) at t = 0.002 s", which blames the simulation for the input
     with pytest.raises(pteromys.InputError, match=words):
         pteromys.simulate(EXAMPLES[0], **kw)
+
+
+def test_simulate_flies_one_launch_from_any_height():
+    # no upper bound on one launch (the standard launches of evaluate take
+    # the command's 0-100 m): a level ballistic throw at 7 m/s from 150 m
+    # lands after the free fall time sqrt(2 h / g), 7 m/s times that away
+    f = pteromys.simulate(EXAMPLES[0], speed=7.0, height=150.0, t_max=60.0, ballistic=True)
+    t = math.sqrt(2 * 150.0 / 9.81)
+    assert f["end"] == "ground"
+    assert f["flight_time_s"] == pytest.approx(t, rel=1e-4) and f["distance_m"] == pytest.approx(7.0 * t, rel=1e-4)
 
 
 def test_evaluate_refuses_a_non_finite_height_and_a_zero_record_step():

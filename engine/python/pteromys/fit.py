@@ -94,5 +94,6 @@ def synthetic_dataset(gliders, out_dir, model=None, **options):
              "alpha_max_deg", "points_min", "points_max", "frame_rate_hz", "delay_max_s", "noise_m", "height", "seed"}
     unknown = sorted(set(options) - known)
     if unknown:  # a misspelt option would otherwise be dropped and its default used
-        raise ValueError("synthetic_dataset: unknown option(s) %s; known: %s" % (", ".join(unknown), ", ".join(sorted(known))))
+        raise _core.InputError("synthetic_dataset: unknown option(s) %s; known: %s" % (", ".join(unknown),
+                                                                                      ", ".join(sorted(known))))
     return _core._synthetic_dataset(dict(gliders), str(out_dir), model, options)
