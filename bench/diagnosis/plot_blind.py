@@ -94,10 +94,11 @@ def wide_runs(rows, archive_dir):
     CASE-g20, every training glider): for each table row, the archived runs
     of its -g20 case (any commit). Returns a list of dicts case, effect,
     narrow (the table's verdict), runs (a list of (commit, verdict, the true
-    effect's held-out shrink in percent)) and oracles ({commit: the oracle's
-    held-out shrink in percent} of the runs made with the oracle), in the
+    effect's held-out shrink in percent)), oracles ({commit: the oracle's
+    held-out shrink in percent} of the runs made with the oracle) and
+    margins ({commit: the run's shrink margin in percent}, the same runs), in the
     table's order; rows with no such run have runs == []."""
-    by_name, oracles = collections.defaultdict(list), collections.defaultdict(dict)
+    by_name, oracles, margins = collections.defaultdict(list), collections.defaultdict(dict), collections.defaultdict(dict)
     for name, p, r in rb.archived(archive_dir):
         if name.endswith(rb.WIDE):
             e = next((x for x in r.get("effects", []) if x["name"] == name.split("-")[0]), None)
@@ -106,18 +107,20 @@ def wide_runs(rows, archive_dir):
             by_name[name[:-len(rb.WIDE)]].append((commit, r["verdict"], shrink))
             if r.get("oracle", {}).get("shrink") is not None:
                 oracles[name[:-len(rb.WIDE)]][commit] = 100.0 * r["oracle"]["shrink"]
+                margins[name[:-len(rb.WIDE)]][commit] = 100.0 * r.get("options", {}).get("min_shrink", 0.05)
     return [{"case": row["case"], "effect": row["effect"], "narrow": row["verdict"], "runs": by_name.get(row["case"], []),
-             "oracles": oracles.get(row["case"], {})} for row in rows]
+             "oracles": oracles.get(row["case"], {}), "margins": margins.get(row["case"], {})} for row in rows]
 
 
-def wide_under_margin(wide, margin_percent=5.0):
+def wide_under_margin(wide):
     """The flown cases that the table's own rule would not count at the
     issue's size: flown with the oracle, and its held-out shrink under the
-    margin in every such run (even the known physics, added to the baseline,
-    does not close the margin there). Cases flown without the oracle are
-    never in it: their oracle is not known."""
+    run's margin (options.min_shrink, 5 % by default) in every such run
+    (even the known physics, added to the baseline, does not close the
+    margin there). Cases flown without the oracle are never in it: their
+    oracle is not known."""
     return [w["case"] for w in wide if w["runs"] and w["oracles"] and
-            all(o < margin_percent for o in w["oracles"].values())]
+            all(o < w["margins"][c] for c, o in w["oracles"].items())]
 
 
 def wide_tally(wide):
@@ -262,7 +265,7 @@ def main(argv=None):
                 "%s (%.1f %%, %s%s)" % (v, sh, c, ", oracle %.1f %%" % w["oracles"][c] if c in w["oracles"] else "")
                 for c, v, sh in w["runs"])))
     under = wide_under_margin(wide)
-    print("  flown with the oracle, the oracle under the 5 %% margin at %s (not nameable by the table's rule): %s" % (
+    print("  flown with the oracle, the oracle under the margin at %s (not nameable by the table's rule): %s" % (
         rb.WIDE, ", ".join(under) or "none"))
     print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
     found, missing = strengths(rows, a.archive)

@@ -759,6 +759,10 @@ def test_a_case_whose_oracle_at_20_gliders_is_under_the_margin_is_listed(tmp_pat
     assert wide[1]["oracles"] == {"aaa1111": pytest.approx(4.2)}
     assert wide[2]["oracles"] == {"aaa1111": pytest.approx(3.0), "bbb2222": pytest.approx(7.0)}
     assert pb.wide_under_margin(wide) == ["camera-1-s2"]
+    # the margin is the run's own (options.min_shrink): at a 4 % margin the
+    # camera's 4.2 % oracle reaches it
+    wide[1]["margins"] = {"aaa1111": 4.0}
+    assert wide[0]["margins"] == {"aaa1111": pytest.approx(5.0)} and pb.wide_under_margin(wide) == []
 
 
 def test_the_documented_20_glider_tally_is_the_archives_count():
