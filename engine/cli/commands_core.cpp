@@ -1,4 +1,5 @@
 // pteromys evaluate, pteromys simulate.
+#include <cmath>
 #include <iostream>
 
 #include "commands.hpp"
@@ -37,7 +38,8 @@ int run_simulate(const std::vector<std::string>& argv) {
   check_writable(a.get("--csv"), "trajectories");
   Setup s = load_setup(a);
   const double every = a.number("--every", 5);
-  if (!(every >= 1) || every > 1e6) throw InputError("--every must be a positive whole number");
+  if (!(every >= 1) || every > 1e6 || every != std::floor(every))  // 2.5 used to be cut to 2
+    throw InputError("--every must be a positive whole number");
   s.analysis.sim.record_every = static_cast<int>(every);
   const MountedGlider mg = mount(s.glider, s.model, s.env, s.aero);
   std::vector<std::string> names;

@@ -107,6 +107,14 @@ def test_simulate_writes_trajectories(path, tmp_path):
         assert float(first[5]) == pytest.approx(speeds[k])
 
 
+@pytest.mark.parametrize("every", ["0", "2.5", "-1"])
+def test_simulate_refuses_an_every_that_is_not_a_positive_whole_number(every, tmp_path):
+    out = tmp_path / "traj.csv"
+    r = run(["simulate", EXAMPLES[0], "--csv", out, "--every", every])
+    assert r.returncode == 2 and "--every must be a positive whole number" in r.stderr, r.stderr
+    assert not out.exists()
+
+
 def test_simulate_requires_csv():
     r = run(["simulate", EXAMPLES[0]])
     assert r.returncode != 0 and "--csv" in r.stderr
