@@ -265,8 +265,9 @@ def main(argv=None):
                 "%s (%.1f %%, %s%s)" % (v, sh, c, ", oracle %.1f %%" % w["oracles"][c] if c in w["oracles"] else "")
                 for c, v, sh in w["runs"])))
     under = wide_under_margin(wide)
-    print("  flown with the oracle, the oracle under the margin at %s (not nameable by the table's rule): %s" % (
-        rb.WIDE, ", ".join(under) or "none"))
+    verdicts = {w["case"]: "/".join(v for _, v, _ in w["runs"]) for w in wide}
+    print("  flown with the oracle, the oracle under the margin at %s (not nameable by the table's rule; the "
+          "verdicts): %s" % (rb.WIDE, ", ".join("%s (%s)" % (c, verdicts[c]) for c in under) or "none"))
     print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
     found, missing = strengths(rows, a.archive)
     p2 = os.path.join(a.out, "blind_strengths.png")
