@@ -11,45 +11,10 @@ namespace pteromys::python {
 
 namespace {
 
-// A launch value from Python: NaN or infinity is refused here, naming the
-// keyword, rather than flown into a "diverged" flight.
-double finite_value(const char* key, double v) {
-  if (!std::isfinite(v)) throw InputError(std::string(key) + " must be a finite number");
-  return v;
-}
-
 // The launch height, as the command line takes it (--height).
 double launch_height(double v) {
   if (!(finite_value("height", v) >= 0) || v > 100) throw InputError("height must be between 0 and 100 m");
   return v;
-}
-
-SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every) {
-  SimOptions o;
-  if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
-  // (the samples are reserved for t_max / dt steps: an infinite t_max was
-  // undefined behaviour, a huge one an allocation failure)
-  if (!(t_max > 0) || t_max > 600) throw InputError("t_max must be in (0, 600] s");
-  o.dt = dt;
-  o.t_max = t_max;
-  if (record_every < 1) throw InputError("record_every must be at least 1 (every step)");
-  o.record_every = record_every;
-  if (integrator == "verlet") o.integrator = Integrator::Verlet;
-  else if (integrator == "rk4") o.integrator = Integrator::RK4;
-  else throw InputError("integrator must be 'verlet' or 'rk4'");
-  return o;
-}
-
-py::dict flight_dict(const Flight& f) {
-  py::dict d;
-  d["samples"] = samples_array(f);
-  d["stable"] = f.stable;
-  d["reason"] = f.reason;
-  d["distance_m"] = f.distance;
-  d["flight_time_s"] = f.flight_time;
-  d["max_alpha_deg"] = rad2deg(f.max_alpha);
-  d["end"] = f.end == FlightEnd::Ground ? "ground" : f.end == FlightEnd::TimeLimit ? "time_limit" : "unstable";
-  return d;
 }
 
 std::vector<std::string> wing_names(const Glider& g) {
@@ -234,17 +199,7 @@ void bind_core(py::module_& m) {
         const ModelPtr model = to_model(mo);
         AeroOptions ao;
         ao.dz = dz;
-        Launch l;
-        l.speed = finite_value("speed", speed);
-        if (l.speed < 0) throw InputError("speed must not be negative (m/s; the launch is along +x)");
-        l.climb_deg = finite_value("climb_deg", climb_deg);
-        l.height = finite_value("height", height);  // one launch, any height (a drop from a hill)
-        if (l.height < 0) throw InputError("height must not be negative (m above the ground)");
-        if (!pitch_deg.is_none()) {
-          l.pitch_from_path = false;
-          l.pitch_deg = finite_value("pitch_deg", pitch_deg.cast<double>());
-        }
-        l.pitch_rate_deg_s = finite_value("pitch_rate_deg_s", pitch_rate_deg_s);
+        const Launch l = one_launch(speed, climb_deg, height, pitch_deg, pitch_rate_deg_s);
         const SimOptions so = sim_options(dt, t_max, integrator, record_every);
         Flight f;
         {

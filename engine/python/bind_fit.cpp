@@ -211,13 +211,15 @@ void bind_fit(py::module_& m) {
       }, py::arg("glider"), py::arg("launch"), py::arg("times"), py::arg("model") = py::none(),
       py::arg("ballistic") = false, py::arg("dz") = 0.005, py::arg("dt") = 0.002);
 
-  m.def("_predict_flights", [](const std::string& dataset, const py::object& model, bool ballistic, int points,
-                               int threads) {
+  m.def("_predict_flights", [](const std::string& dataset, const py::object& model, bool ballistic, double points,
+                               double threads) {
+        FitOptions o;  // as pteromys.fit's: whole numbers, launch_points 0 or at least 3
+        o.launch.points = whole_number("launch_points", points, 0, 100000);
+        if (o.launch.points > 0 && o.launch.points < 3)
+          throw InputError("launch_points must be 0 (all points) or at least 3");
+        o.threads = whole_number("threads", threads, 0, 256);
         const Dataset d = load_dataset(dataset);
         const ModelPtr mp = ballistic ? nullptr : to_model(model);
-        FitOptions o;
-        o.launch.points = points;
-        o.threads = threads;
         std::vector<FlightPrediction> ps;
         {
           py::gil_scoped_release nogil;

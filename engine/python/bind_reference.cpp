@@ -39,18 +39,6 @@ py::array_t<double> as_array(const py::object& o) {
   return py::module_::import("numpy").attr("ascontiguousarray")(o, "float64").cast<py::array_t<double>>();
 }
 
-py::dict flight_dict(const Flight& f) {
-  py::dict d;
-  d["samples"] = samples_array(f);
-  d["stable"] = f.stable;
-  d["reason"] = f.reason;
-  d["distance_m"] = f.distance;
-  d["flight_time_s"] = f.flight_time;
-  d["max_alpha_deg"] = rad2deg(f.max_alpha);
-  d["end"] = f.end == FlightEnd::Ground ? "ground" : f.end == FlightEnd::TimeLimit ? "time_limit" : "unstable";
-  return d;
-}
-
 void bind_reference(py::module_& m) {
   m.def("effect_names", []() { return Effects::names(); },
         "Names of the reference simulator's effects (the diagnosis library's names).");
@@ -238,22 +226,9 @@ void bind_reference(py::module_& m) {
         const Glider g = to_glider(go);
         validate(g);
         const ReferenceOptions o = options(effects, strengths, span_panels, chord_panels);
-        if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
-        if (!(t_max > 0)) throw InputError("t_max must be positive");
-        Launch l;
-        l.speed = speed;
-        l.climb_deg = climb_deg;
-        l.height = height;
-        if (!pitch_deg.is_none()) {
-          l.pitch_from_path = false;
-          l.pitch_deg = pitch_deg.cast<double>();
-        }
-        l.pitch_rate_deg_s = pitch_rate_deg_s;
-        SimOptions so;
-        so.dt = dt;
-        so.t_max = t_max;
-        so.record_every = std::max(1, record_every);
-        so.wind = {o.effects.wind.factor() * wind_m_s, 0.0};
+        const Launch l = one_launch(speed, climb_deg, height, pitch_deg, pitch_rate_deg_s);
+        SimOptions so = sim_options(dt, t_max, "verlet", record_every);
+        so.wind = {o.effects.wind.factor() * finite_value("wind_m_s", wind_m_s), 0.0};
         Flight f;
         {
           py::gil_scoped_release nogil;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -26,6 +27,17 @@ ModelPtr to_model(const py::object& o);
 int whole_number(const char* key, double v, int lo, int hi);
 /// Trajectory as an (n x 9) array: t, x, y, pitch_deg, speed, alpha_deg, omega_deg_s, vx, vy.
 py::array_t<double> samples_array(const Flight& f);
+/// `v` if finite; otherwise InputError "KEY must be a finite number".
+double finite_value(const char* key, double v);
+/// One launch from Python keywords (simulate, reference_simulate): every
+/// value finite, speed and height not negative; pitch_deg None = along the path.
+Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,
+                  double pitch_rate_deg_s);
+/// Simulation options from Python keywords: dt in (0, 0.05] s, t_max in
+/// (0, 600] s, record_every >= 1, integrator "verlet" or "rk4".
+SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every);
+/// A flight as the dict of pteromys.simulate (samples, stable, reason, ...).
+py::dict flight_dict(const Flight& f);
 
 /// Binders of each area, run by PYBIND11_MODULE in `order`. Each
 /// bind_<area>.cpp registers itself with a static initialiser:

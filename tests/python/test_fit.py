@@ -276,6 +276,16 @@ def test_synthetic_dataset_refuses_bad_options_and_writes_nothing(tmp_path, opti
     assert not out.exists() or not any(out.iterdir())
 
 
+@pytest.mark.parametrize("kw, words", [
+    ({"launch_points": 2}, "launch_points must be 0 \\(all points\\) or at least 3"),  # was flown as 3
+    ({"launch_points": 10.5}, "launch_points must be a whole number between 0 and 100000"),  # was cut to 10
+    ({"threads": -1}, "threads must be a whole number between 0 and 256"),
+])
+def test_predict_flights_refuses_what_fit_refuses(kw, words):
+    with pytest.raises(pteromys.InputError, match=words):
+        pteromys.predict_flights("/nonexistent/dataset.json", **kw)  # before the dataset is read
+
+
 def test_python_fit_reports_progress_and_returns_a_model(dataset):
     seen = []
     model, rep = pteromys.fit(dataset, max_centres=1, threads=2, progress=seen.append)

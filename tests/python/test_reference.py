@@ -113,6 +113,21 @@ def test_reference_flight_of_a_training_glider():
     assert w["distance_m"] < f["distance_m"] - 1.0
 
 
+@pytest.mark.parametrize("kw, words", [
+    ({"speed": float("nan")}, "speed must be a finite number"),
+    ({"height": float("inf")}, "height must be a finite number"),
+    ({"pitch_deg": float("nan")}, "pitch_deg must be a finite number"),
+    ({"wind_m_s": float("nan")}, "wind_m_s must be a finite number"),
+    ({"record_every": 0}, "record_every must be at least 1"),  # was taken as 1
+    ({"t_max": float("inf")}, "t_max must be in \\(0, 600\\] s"),
+])
+def test_reference_simulate_refuses_a_launch_it_cannot_fly(kw, words):
+    # the same launch checks as pteromys.simulate (one shared binding helper);
+    # a NaN launch used to be flown into a "diverged" flight
+    with pytest.raises(pteromys.InputError, match=words):
+        pteromys.reference_simulate(CANARD, **kw)
+
+
 # ------------------------------------------------------------ generate
 
 @pytest.fixture(scope="module")

@@ -77,7 +77,7 @@ def predict_flights(dataset, model=None, ballistic=False, launch_points=10, thre
     rmse_after_m (points after the first M), launch_points, max_alpha_deg,
     left_model_range, launch.
     """
-    return list(_core._predict_flights(str(dataset), model, bool(ballistic), int(launch_points), int(threads)))
+    return list(_core._predict_flights(str(dataset), model, bool(ballistic), float(launch_points), float(threads)))
 
 
 def synthetic_dataset(gliders, out_dir, model=None, **options):
