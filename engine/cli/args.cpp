@@ -15,6 +15,13 @@ double Args::number(const std::string& k, double def) const {
   return v;
 }
 
+int Args::whole(const std::string& k, int def, int lo, int hi) const {
+  const double v = number(k, def);
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw InputError(k + " must be a whole number between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return static_cast<int>(v);
+}
+
 Args parse_args(const std::vector<std::string>& argv, const std::set<std::string>& valued,
                 const std::set<std::string>& bare) {
   Args a;

@@ -23,6 +23,9 @@ struct Args {
     return it == options.end() ? def : it->second;
   }
   double number(const std::string& k, double def) const;
+  /// The option as an int if it is a whole number in [lo, hi] (`def` when
+  /// absent); otherwise InputError "KEY must be a whole number between LO and HI".
+  int whole(const std::string& k, int def, int lo, int hi) const;
   bool flag(const std::string& k) const { return flags.count(k) > 0; }
 };
 

@@ -22,13 +22,6 @@
 namespace pteromys::cli {
 namespace {
 
-int whole(const Args& a, const std::string& key, int def, int lo, int hi) {
-  const double v = a.number(key, def);
-  if (v != std::floor(v) || v < lo || v > hi)
-    throw InputError(key + " must be a whole number between " + std::to_string(lo) + " and " + std::to_string(hi));
-  return static_cast<int>(v);
-}
-
 std::vector<Effect> parse_effect_list(const std::string& s) {
   std::vector<Effect> out;
   std::stringstream ss(s);
@@ -146,7 +139,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   }
 
   DiagnoseOptions o;
-  o.folds = whole(a, "--folds", o.folds, 2, 1000);
+  o.folds = a.whole("--folds", o.folds, 2, 1000);
   if (a.has("--effects")) o.effects = parse_effect_list(a.get("--effects"));
   o.trim = !a.flag("--no-trim");
   o.full_fit = !a.flag("--no-full-fit");
@@ -181,23 +174,23 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("--min-shrink must be in [0, 1)");
   o.none_tolerance = a.number("--none-tolerance", o.none_tolerance);
   if (!(o.none_tolerance >= 0) || !std::isfinite(o.none_tolerance)) throw InputError("--none-tolerance must not be negative");
-  o.fit.max_centres = whole(a, "--max-centres", o.fit.max_centres, 1, 200);
-  o.fit.insertion_tries = whole(a, "--insertion-tries", o.fit.insertion_tries, 1, 1000);
-  o.threads = whole(a, "--threads", 0, 0, 256);
+  o.fit.max_centres = a.whole("--max-centres", o.fit.max_centres, 1, 200);
+  o.fit.insertion_tries = a.whole("--insertion-tries", o.fit.insertion_tries, 1, 1000);
+  o.threads = a.whole("--threads", 0, 0, 256);
   o.sim.ground_y = a.number("--ground-y", 0.0);
   if (!std::isfinite(o.sim.ground_y)) throw InputError("--ground-y must be a number");
   o.sim.dt = a.number("--dt", o.sim.dt);
   if (!(o.sim.dt > 0) || o.sim.dt > 0.05) throw InputError("--dt must be in (0, 0.05] s");
   o.sim.aero.dz = a.number("--dz", o.sim.aero.dz);
   if (!(o.sim.aero.dz > 0) || o.sim.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
-  o.sim.max_iterations = whole(a, "--iterations", o.sim.max_iterations, 1, 1000);
+  o.sim.max_iterations = a.whole("--iterations", o.sim.max_iterations, 1, 1000);
   o.launch_window_s = a.number("--launch-window", o.launch_window_s);
   o.near_ground_m = a.number("--near-ground", o.near_ground_m);
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("--launch-window and --near-ground must not be negative");
-  o.worst_flights = whole(a, "--worst-flights", o.worst_flights, 0, 1000);
-  o.polish = whole(a, "--polish", o.polish, 0, 100);
-  o.profile_min_gliders = whole(a, "--profile-min-gliders", o.profile_min_gliders, 1, 100000);
-  o.profiled_candidates = whole(a, "--profiled-candidates", o.profiled_candidates, 0, 100);
+  o.worst_flights = a.whole("--worst-flights", o.worst_flights, 0, 1000);
+  o.polish = a.whole("--polish", o.polish, 0, 100);
+  o.profile_min_gliders = a.whole("--profile-min-gliders", o.profile_min_gliders, 1, 100000);
+  o.profiled_candidates = a.whole("--profiled-candidates", o.profiled_candidates, 0, 100);
   if (a.has("--step-alpha")) {
     o.step_alpha = a.number("--step-alpha", o.step_alpha);
     if (!(o.step_alpha > 0 && o.step_alpha <= 1)) throw InputError("--step-alpha must be in (0, 1]");
@@ -217,7 +210,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
 
   // --stability N: N runs in all (the diagnosis and N - 1 re-runs at
   // slightly changed steps); checked before the dataset is read.
-  const int stability = a.has("--stability") ? whole(a, "--stability", 3, 2, 7) : 0;
+  const int stability = a.has("--stability") ? a.whole("--stability", 3, 2, 7) : 0;
 
   const std::string path = a.positional[0];
   const Dataset d = load_dataset(path);

@@ -14,13 +14,6 @@
 namespace pteromys::cli {
 namespace {
 
-int whole(const Args& a, const std::string& key, int def, int lo, int hi) {
-  const double v = a.number(key, def);
-  if (v != std::floor(v) || v < lo || v > hi)
-    throw InputError(key + " must be a whole number between " + std::to_string(lo) + " and " + std::to_string(hi));
-  return static_cast<int>(v);
-}
-
 double nonneg(const Args& a, const std::string& key, double def) {
   const double v = a.number(key, def);
   if (!(v >= 0)) throw InputError(key + " must not be negative");
@@ -51,8 +44,8 @@ int run_fit(const std::vector<std::string>& argv) {
   if (a.has("--json")) check_writable(a.get("--json"), "report");
 
   FitOptions opt;
-  opt.max_centres = whole(a, "--max-centres", opt.max_centres, 1, 200);
-  opt.launch.points = whole(a, "--launch-points", opt.launch.points, 0, 100000);
+  opt.max_centres = a.whole("--max-centres", opt.max_centres, 1, 200);
+  opt.launch.points = a.whole("--launch-points", opt.launch.points, 0, 100000);
   if (opt.launch.points > 0 && opt.launch.points < 3)
     throw InputError("--launch-points must be 0 (all points) or at least 3");
   opt.launch.fit_pitch_rate = a.flag("--fit-pitch-rate");
@@ -66,13 +59,13 @@ int run_fit(const std::vector<std::string>& argv) {
   } else if (stop != "bic") {
     throw InputError("--stop must be bic or none, got '" + stop + "'");
   }
-  opt.max_rounds = whole(a, "--rounds", opt.max_rounds, 1, 100);
-  opt.max_iterations = whole(a, "--iterations", opt.max_iterations, 1, 10000);
+  opt.max_rounds = a.whole("--rounds", opt.max_rounds, 1, 100);
+  opt.max_iterations = a.whole("--iterations", opt.max_iterations, 1, 10000);
   opt.robust_m = nonneg(a, "--robust", opt.robust_m);
   opt.regularisation_m = nonneg(a, "--regularisation", opt.regularisation_m);
-  opt.candidates = whole(a, "--candidates", opt.candidates, 1, 1000);
-  opt.insertion_tries = whole(a, "--insertion-tries", opt.insertion_tries, 1, 1000);
-  opt.threads = whole(a, "--threads", 0, 0, 256);
+  opt.candidates = a.whole("--candidates", opt.candidates, 1, 1000);
+  opt.insertion_tries = a.whole("--insertion-tries", opt.insertion_tries, 1, 1000);
+  opt.threads = a.whole("--threads", 0, 0, 256);
   opt.aero.dz = a.number("--dz", opt.aero.dz);
   if (!(opt.aero.dz > 0) || opt.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
   opt.launch.track.sim.dt = a.number("--dt", opt.launch.track.sim.dt);

@@ -93,14 +93,6 @@ std::pair<double, double> range(const std::string& s, const std::string& opt) {
   return {a, b};
 }
 
-int whole(const Args& a, const std::string& k, int def, int lo, int hi) {
-  const double v = a.number(k, def);
-  if (v != std::floor(v) || v < lo || v > hi)
-    throw InputError("option " + k + " needs a whole number from " + std::to_string(lo) + " to " +
-                     std::to_string(hi));
-  return static_cast<int>(v);
-}
-
 int run_generate(const std::vector<std::string>& argv) {
   const Args a = parse_args(argv,
                             {"-o", "--output", "--flights-per-glider", "--seed", "--noise-m", "--frame-rate",
@@ -119,7 +111,7 @@ int run_generate(const std::vector<std::string>& argv) {
   GenerateOptions o;
   o.effects = parse_effects(a.get("--effects", "physics"));
   apply_strengths(o.effects, a.get("--strength", ""));
-  o.flights_per_glider = whole(a, "--flights-per-glider", 6, 1, 10000);
+  o.flights_per_glider = a.whole("--flights-per-glider", 6, 1, 10000);
   const double seed = a.number("--seed", 1);
   if (seed < 0 || seed != std::floor(seed) || seed > 9.007e15) throw InputError("--seed needs a whole number >= 0");
   o.seed = static_cast<std::uint64_t>(seed);
@@ -166,10 +158,10 @@ int run_generate(const std::vector<std::string>& argv) {
   o.camera.scale_error = a.number("--camera-scale-error", o.camera.scale_error);
   o.camera.roll_error_deg = a.number("--camera-roll-deg", o.camera.roll_error_deg);
   o.wind_m_s = a.number("--wind", -1.0);
-  o.threads = whole(a, "--threads", 2, 1, 64);
+  o.threads = a.whole("--threads", 2, 1, 64);
   o.dt = a.number("--dt", 0.002);
-  o.aero.span_panels = whole(a, "--span-panels", o.aero.span_panels, 1, 200);
-  o.aero.chord_panels = whole(a, "--chord-panels", o.aero.chord_panels, 1, 50);
+  o.aero.span_panels = a.whole("--span-panels", o.aero.span_panels, 1, 200);
+  o.aero.chord_panels = a.whole("--chord-panels", o.aero.chord_panels, 1, 50);
 
   // Gliders (validated on loading; messages name the file).
   std::vector<std::pair<std::string, Glider>> gliders;
