@@ -1,6 +1,4 @@
 // Bindings: glider, mass, elements, coefficient models, forces, flight, report.
-#include <cmath>
-
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 

@@ -83,6 +83,14 @@ struct AeroOf {
   const AeroForces& get() const { return qa ? static_cast<const AeroForces&>(*qa) : none; }
 };
 
+// M of eq. 5 from a Python keyword, as --launch-points takes it (fit and
+// predict_flights).
+int launch_points(double v) {
+  const int m = whole_number("launch_points", v, 0, 100000);
+  if (m > 0 && m < 3) throw InputError("launch_points must be 0 (all points) or at least 3");
+  return m;
+}
+
 std::unique_ptr<AeroOf> aero_of(const Glider& g, const py::object& model, bool ballistic, double dz) {
   validate(g);
   auto a = std::make_unique<AeroOf>();
@@ -105,9 +113,7 @@ void bind_fit(py::module_& m) {
         auto num = [&](const char* k, double def) { return kw.contains(k) ? kw[k].cast<double>() : def; };
         auto flag = [&](const char* k, bool def) { return kw.contains(k) ? kw[k].cast<bool>() : def; };
         o.max_centres = whole_number("max_centres", num("max_centres", o.max_centres), 1, 200);
-        o.launch.points = whole_number("launch_points", num("launch_points", o.launch.points), 0, 100000);
-        if (o.launch.points > 0 && o.launch.points < 3)
-          throw InputError("launch_points must be 0 (all points) or at least 3");
+        o.launch.points = launch_points(num("launch_points", o.launch.points));
         o.launch.fit_pitch_rate = flag("fit_pitch_rate", false);
         o.min_improvement = num("min_improvement", o.min_improvement);
         if (kw.contains("stop")) {
@@ -214,9 +220,7 @@ void bind_fit(py::module_& m) {
   m.def("_predict_flights", [](const std::string& dataset, const py::object& model, bool ballistic, double points,
                                double threads) {
         FitOptions o;  // as pteromys.fit's: whole numbers, launch_points 0 or at least 3
-        o.launch.points = whole_number("launch_points", points, 0, 100000);
-        if (o.launch.points > 0 && o.launch.points < 3)
-          throw InputError("launch_points must be 0 (all points) or at least 3");
+        o.launch.points = launch_points(points);
         o.threads = whole_number("threads", threads, 0, 256);
         const Dataset d = load_dataset(dataset);
         const ModelPtr mp = ballistic ? nullptr : to_model(model);
