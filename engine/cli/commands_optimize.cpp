@@ -35,8 +35,7 @@ int run_optimize(const std::vector<std::string>& argv) {
   opt.locks = split_list(a.get("--lock"));
   opt.optimise_ballast = a.flag("--ballast");
   opt.algorithm = a.get("--algorithm", opt.algorithm);
-  opt.max_evaluations = static_cast<int>(a.number("--max-evaluations", opt.max_evaluations));
-  if (opt.max_evaluations < 1) throw InputError("--max-evaluations must be positive");
+  opt.max_evaluations = a.whole("--max-evaluations", opt.max_evaluations, 1, 10000000);
   opt.w1 = a.number("--w1", opt.w1);
   opt.w2 = a.number("--w2", opt.w2);
   opt.w4 = a.number("--w4", opt.w4);

@@ -9,12 +9,6 @@ namespace pteromys::python {
 
 namespace {
 
-// The launch height, as the command line takes it (--height).
-double launch_height(double v) {
-  if (!(finite_value("height", v) >= 0) || v > 100) throw InputError("height must be between 0 and 100 m");
-  return v;
-}
-
 std::vector<std::string> wing_names(const Glider& g) {
   std::vector<std::string> n;
   for (const auto& w : g.wings) n.push_back(w.name);
@@ -156,7 +150,7 @@ void bind_core(py::module_& m) {
         validate(g);
         const ModelPtr model = to_model(mo);
         AeroOptions ao;
-        ao.dz = dz;
+        ao.dz = element_spacing(dz);
         py::gil_scoped_release nogil;
         return std::make_shared<MountedGlider>(mount(g, model, {}, ao));
       }, py::arg("glider"), py::arg("model") = py::none(), py::arg("dz") = 0.005,
@@ -168,7 +162,7 @@ void bind_core(py::module_& m) {
         validate(g);
         const ModelPtr model = to_model(mo);
         AeroOptions ao;
-        ao.dz = dz;
+        ao.dz = element_spacing(dz);
         AnalysisOptions opt;
         opt.launch_height = launch_height(height);
         opt.sim = sim_options(dt, 20.0, integrator, record_every);
@@ -196,7 +190,7 @@ void bind_core(py::module_& m) {
         validate(g);
         const ModelPtr model = to_model(mo);
         AeroOptions ao;
-        ao.dz = dz;
+        ao.dz = element_spacing(dz);
         const Launch l = one_launch(speed, climb_deg, height, pitch_deg, pitch_rate_deg_s);
         const SimOptions so = sim_options(dt, t_max, integrator, record_every);
         Flight f;

@@ -178,7 +178,7 @@ void bind_diagnose(py::module_& m) {
     const Glider g = to_glider(go);
     validate(g);
     AeroOptions ao;
-    ao.dz = dz;
+    ao.dz = element_spacing(dz);
     const ModelPtr mp = to_model(model);
     const MountedGlider mg = mount(g, mp, {}, ao);
     const GliderFeatures f = glider_features(g, dz);

@@ -98,7 +98,7 @@ std::unique_ptr<AeroOf> aero_of(const Glider& g, const py::object& model, bool b
   a->body = {mp.mass, mp.inertia};
   if (!ballistic) {
     AeroOptions ao;
-    ao.dz = dz;
+    ao.dz = element_spacing(dz);
     const ModelPtr m = to_model(model);
     py::gil_scoped_release nogil;
     a->mg = std::make_unique<MountedGlider>(mount(g, m, {}, ao));
@@ -134,9 +134,8 @@ void bind_fit(py::module_& m) {
         if (!(o.regularisation_m >= 0) || !std::isfinite(o.regularisation_m))
           throw InputError("regularisation_m must be a length >= 0 (m)");
         o.threads = whole_number("threads", num("threads", 0), 0, 256);
-        o.aero.dz = num("dz", o.aero.dz);
+        o.aero.dz = element_spacing(num("dz", o.aero.dz));
         o.launch.track.sim.dt = num("dt", o.launch.track.sim.dt);
-        if (!(o.aero.dz > 0) || o.aero.dz > 0.1) throw InputError("dz must be in (0, 0.1] m");
         if (!(o.launch.track.sim.dt > 0) || o.launch.track.sim.dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
         o.use_prior = flag("use_prior", true);
         if (kw.contains("model") && !kw["model"].is_none()) {

@@ -69,7 +69,7 @@ void bind_optimize(py::module_& m) {
         OptimizeOptions opt;
         opt.locks = std::move(locks);
         opt.optimise_ballast = optimise_ballast;
-        opt.analysis.launch_height = height;
+        opt.analysis.launch_height = launch_height(height);
         opt.analysis.sim.record_every = 5;
         opt.algorithm = algorithm;
         opt.max_evaluations = max_evaluations;
@@ -95,7 +95,7 @@ void bind_optimize(py::module_& m) {
           opt.angle_max_deg = p.second;
         }
         AeroOptions ao;
-        ao.dz = dz;
+        ao.dz = element_spacing(dz);
         OptimizeResult r;
         {
           py::gil_scoped_release nogil;
@@ -121,7 +121,7 @@ void bind_optimize(py::module_& m) {
         validate(g);
         const ModelPtr model = to_model(mo);
         AeroOptions ao;
-        ao.dz = dz;
+        ao.dz = element_spacing(dz);
         auto aero = std::make_shared<const GliderAero>(g, model, Environment{}, ao);
         const OptimizeOptions opt;
         const DesignCost cost(g, aero, opt);

@@ -29,6 +29,12 @@ int whole_number(const char* key, double v, int lo, int hi);
 py::array_t<double> samples_array(const Flight& f);
 /// `v` if finite; otherwise InputError "KEY must be a finite number".
 double finite_value(const char* key, double v);
+/// The element spacing `dz` [m] if in (0, 0.1], as the commands' --dz;
+/// otherwise InputError "dz must be in (0, 0.1] m".
+double element_spacing(double dz);
+/// The standard launches' height [m] if in [0, 100], as the commands'
+/// --height; otherwise InputError "height must be between 0 and 100 m".
+double launch_height(double height);
 /// One launch from Python keywords (simulate, reference_simulate): every
 /// value finite, speed and height not negative; pitch_deg None = along the path.
 Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,

@@ -39,6 +39,16 @@ double finite_value(const char* key, double v) {
   return v;
 }
 
+double element_spacing(double dz) {
+  if (!(dz > 0) || dz > 0.1) throw InputError("dz must be in (0, 0.1] m");
+  return dz;
+}
+
+double launch_height(double v) {
+  if (!(finite_value("height", v) >= 0) || v > 100) throw InputError("height must be between 0 and 100 m");
+  return v;
+}
+
 Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,
                   double pitch_rate_deg_s) {
   Launch l;

@@ -913,7 +913,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   }
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("the significance level must be in (0, 1)");
   if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("the shrink margin must be in [0, 1)");
-  if (!(o.none_tolerance >= 0)) throw InputError("the noise tolerance must not be negative");
+  if (!(o.none_tolerance >= 0) || !std::isfinite(o.none_tolerance))
+    throw InputError("the noise tolerance must be finite and not negative");
   if (!(o.launch_window_s >= 0) || !(o.near_ground_m >= 0)) throw InputError("phase limits must not be negative");
   if (o.profiled_candidates < 0) throw InputError("the number of profiled candidates must not be negative");
   if (!(o.step_alpha >= 0 && o.step_alpha <= 1))

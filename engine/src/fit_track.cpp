@@ -254,7 +254,10 @@ LaunchFit run_launch_lm(const AeroForces& aero, const RigidBody& body, const std
 LaunchFit fit_launch(const AeroForces& aero, const RigidBody& body, const std::vector<TrackedPoint>& pts,
                      const LaunchFitOptions& o, const LaunchParams* start) {
   const int n = static_cast<int>(pts.size());
-  const int m = o.points <= 0 ? n : std::min(std::max(o.points, 3), n);
+  if (o.points < 0 || o.points == 1 || o.points == 2)
+    throw InputError("the launch fit's number of points must be 0 (all) or at least 3; got " +
+                     std::to_string(o.points));
+  const int m = o.points == 0 ? n : std::min(o.points, n);
   if (m < 3) throw InputError("a flight needs at least 3 points to fit its launch");
   if (2 * m < 4 + (o.fit_pitch ? 1 : 0) + (o.fit_pitch_rate ? 1 : 0))
     throw InputError("too few points to fit the launch parameters");

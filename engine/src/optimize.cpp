@@ -29,12 +29,25 @@ DesignCost::DesignCost(const Glider& g, std::shared_ptr<const GliderAero> aero, 
     : glider_(g), aero_(std::move(aero)), opt_(opt), mass_(g) {
   if (aero_->wing_count() != g.wings.size()) throw InputError("aerodynamics and glider have different wings");
   if (opt.n_speeds < 2 || opt.n_gammas < 3) throw InputError("the cost needs at least 2 speeds and 3 angles");
-  if (!(opt.region.v_max > opt.region.v_min) || !(opt.region.v_min > 0) ||
+  const auto finite = [](std::initializer_list<double> vs) {
+    for (double v : vs)
+      if (!std::isfinite(v)) return false;
+    return true;
+  };
+  if (!finite({opt.region.v_min, opt.region.v_max, opt.region.gamma_min, opt.region.gamma_max}) ||
+      !(opt.region.v_max > opt.region.v_min) || !(opt.region.v_min > 0) ||
       !(opt.region.gamma_max > opt.region.gamma_min))
-    throw InputError("the region Omega must have v_max > v_min > 0 and gamma_max > gamma_min");
-  if (!(opt.angle_max_deg > opt.angle_min_deg)) throw InputError("angle bounds must have max > min");
-  if (!(opt.w1 >= 0) || !(opt.w2 >= 0)) throw InputError("cost weights must be non-negative");
-  if (!(opt.w4 >= 0) || !(opt.min_static_margin >= 0)) throw InputError("static-margin weight and target must be non-negative");
+    throw InputError("the region Omega must have finite v_max > v_min > 0 and gamma_max > gamma_min");
+  if (!finite({opt.angle_min_deg, opt.angle_max_deg}) || !(opt.angle_max_deg > opt.angle_min_deg))
+    throw InputError("angle bounds must be finite, with max > min");
+  if (!finite({opt.w1, opt.w2}) || !(opt.w1 >= 0) || !(opt.w2 >= 0))
+    throw InputError("cost weights must be finite and non-negative");
+  if (!finite({opt.w4, opt.min_static_margin}) || !(opt.w4 >= 0) || !(opt.min_static_margin >= 0))
+    throw InputError("static-margin weight and target must be finite and non-negative");
+  if (!(opt.min_overlap_fraction >= 0 && opt.min_overlap_fraction <= 1))
+    throw InputError("the minimum root overlap must be a fraction between 0 and 1");
+  if (!(opt.analysis.launch_height >= 0 && opt.analysis.launch_height <= 100))
+    throw InputError("the launch height must be between 0 and 100 m");
   double best_area = -1;
   for (std::size_t j = 0; j < aero_->wing_count(); ++j) {
     const auto& el = aero_->elements(j);
@@ -67,7 +80,8 @@ DesignCost::DesignCost(const Glider& g, std::shared_ptr<const GliderAero> aero, 
     return m.x_m + std::cos(deg2rad(m.angle_deg)) * 0.5 * (root_[j].first + root_[j].second);
   };
   std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return root_mid_x(a) > root_mid_x(b); });
-  if (!(opt.min_wing_gap_m >= 0)) throw InputError("the minimum gap between wings must be non-negative");
+  if (!(opt.min_wing_gap_m >= 0) || !std::isfinite(opt.min_wing_gap_m))
+    throw InputError("the minimum gap between wings must be finite and non-negative");
   if (opt.optimise_ballast) {
     if (g.ballast.empty()) throw InputError("ballast optimisation needs at least one ballast item");
     // All ballast items move together; the variable is the first item's x.
@@ -317,6 +331,7 @@ std::string steepest_descent(Problem& p, std::vector<double>& x, double step0, i
 OptimizeResult optimize(const Glider& g, std::shared_ptr<const GliderAero> aero, const OptimizeOptions& opt,
                         const OptimizeResult* warm) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (opt.max_evaluations < 1) throw InputError("the number of evaluations must be at least 1");
   DesignCost cost(g, aero, opt);
   Problem p;
   p.cost = &cost;

@@ -274,6 +274,10 @@ def read_design(obj):
         problems.append("the ballast mass cannot be negative (BallastGrams = %g g)" % obj.BallastGrams)
     if not (P.quantity_mm(obj.LaunchHeight) > 0):
         problems.append("the launch height must be positive")
+    elif P.quantity_mm(obj.LaunchHeight) > 100000:
+        # the engine's standard launches are from 0-100 m (evaluate --height)
+        problems.append("the launch height must be at most 100 m (LaunchHeight = %g m)"
+                        % (P.quantity_mm(obj.LaunchHeight) * MM))
     ballast = []
     if obj.BallastGrams > 0:
         ballast.append({"name": "ballast", "mass_kg": obj.BallastGrams * 1e-3,

@@ -58,8 +58,11 @@ def nan_angle():                      # a NaN from a macro
 def infinite_density():
     g.Density = float("inf")
 
+def launch_too_high():                # the standard launches are from 0-100 m
+    g.LaunchHeight = 150000.0
+
 CASES = [open_tail, crossing_tail, missing_fuselage, wing_off_fuselage, cannot_fly, two_outlines,
-         loose_edge, duplicate_names, zero_thickness, no_wings, nan_angle, infinite_density]
+         loose_edge, duplicate_names, zero_thickness, no_wings, nan_angle, infinite_density, launch_too_high]
 
 def saved_and_reopened(tag):
     """Save the document in its bad state, open a copy, read it, recompute it."""
@@ -109,6 +112,7 @@ INPUT_ERRORS = {
     "no_wings": ["no wing"],
     "nan_angle": ["wing 'main'", "MountAngle", "not a finite number"],
     "infinite_density": ["Density", "not a finite number"],
+    "launch_too_high": ["launch height must be at most 100 m", "150 m"],
 }
 
 

@@ -761,6 +761,8 @@ def test_python_call_refuses_a_bad_insertion_tries(tmp_path, value):
     ("collinearity_limit", 0.0, "collinearity_limit must be in \\(0, 1\\]"),
     ("collinearity_limit", 1.5, "collinearity_limit must be in \\(0, 1\\]"),
     ("collinearity_limit", float("nan"), "collinearity_limit must be in \\(0, 1\\]"),
+    # an infinite tolerance made every gap 'none'; the command refuses it
+    ("none_tolerance", float("inf"), "noise tolerance must be finite and not negative"),
 ])
 def test_python_call_refuses_a_bad_ground_or_collinearity_limit(tmp_path, key, value, words):
     # the command line refuses a non-finite --ground-y; the binding took it

@@ -317,6 +317,11 @@ def test_python_launch_fit_recovers_the_release(tmp_path):
         pteromys.fit_launch(GLIDERS["rect"], t, [-v for v in x], y)
     with pytest.raises(pteromys.InputError):
         pteromys.fit_launch(GLIDERS["rect"], t, x[:-1], y)
+    # the engine took 1 or 2 points as 3; a parabola through two points is
+    # not a launch estimate, so it says so
+    for n in (1, 2, -1):
+        with pytest.raises(pteromys.InputError, match="0 \\(all\\) or at least 3; got %d" % n):
+            pteromys.fit_launch(GLIDERS["rect"], t, x, y, model=pteromys.flat_plate_model(), points=n)
 
 
 def test_insertion_tries_only_add_centres_the_stopping_rule_accepts(tmp_path):

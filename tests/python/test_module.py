@@ -48,6 +48,8 @@ def test_bad_glider_raises_input_error_with_reason():
     ({"pitch_deg": float("nan")}, "pitch_deg must be a finite number"),
     ({"pitch_rate_deg_s": float("-inf")}, "pitch_rate_deg_s must be a finite number"),
     ({"record_every": 0}, "record_every must be at least 1"),
+    ({"dz": 0.5}, "dz must be in \\(0, 0.1\\] m"),  # was sliced into half-metre elements
+    ({"dz": float("nan")}, "dz must be in \\(0, 0.1\\] m"),
 ])
 def test_simulate_refuses_a_launch_it_cannot_fly(kw, words):
     # a NaN launch used to come back as a flight that "diverged (non-finite
@@ -73,6 +75,11 @@ def test_evaluate_refuses_a_non_finite_height_and_a_zero_record_step():
         pteromys.evaluate(EXAMPLES[0], height=150.0)
     with pytest.raises(pteromys.InputError, match="record_every must be at least 1"):
         pteromys.evaluate(EXAMPLES[0], record_every=0)
+    # the commands' --dz bound, (0, 0.1] m; evaluate and mount took any positive dz
+    with pytest.raises(pteromys.InputError, match="dz must be in \\(0, 0.1\\] m"):
+        pteromys.evaluate(EXAMPLES[0], dz=1.0)
+    with pytest.raises(pteromys.InputError, match="dz must be in \\(0, 0.1\\] m"):
+        pteromys.mount(EXAMPLES[0], dz=0.0)
 
 
 def test_slice_wing_areas_sum_to_planform():

@@ -54,6 +54,15 @@ def test_bad_lock_name_is_named(tmp_path):
     assert not (tmp_path / "o.json").exists()
 
 
+@pytest.mark.parametrize("value", ["2.5", "0"])
+def test_a_fractional_or_zero_evaluation_budget_is_refused(tmp_path, value):
+    # 2.5 was cut to 2 evaluations without a word
+    r = run(["optimize", EXAMPLES[0], "-o", tmp_path / "o.json", "--max-evaluations", value])
+    assert r.returncode != 0
+    assert "--max-evaluations must be a whole number between 1 and 10000000" in r.stderr
+    assert not (tmp_path / "o.json").exists()
+
+
 def test_missing_output_option():
     r = run(["optimize", EXAMPLES[0]])
     assert r.returncode != 0 and "-o" in r.stderr
@@ -90,3 +99,23 @@ def test_python_optimize_and_warm_start():
     assert b["report"]["flyable"]
     with pytest.raises(pteromys.InputError, match="no such variable"):
         pteromys.optimize(g, locks=["nose.angle"])
+
+
+@pytest.mark.parametrize("kw, words", [
+    # the standard launches' height: evaluate and the commands refuse > 100 m
+    ({"height": 150.0}, "height must be between 0 and 100 m"),
+    ({"height": float("nan")}, "height must be a finite number"),
+    ({"dz": 0.5}, "dz must be in \\(0, 0.1\\] m"),
+    # an infinite weight made every cost infinite or NaN, and the optimiser
+    # stopped at once with the design unchanged
+    ({"w1": float("inf")}, "cost weights must be finite and non-negative"),
+    ({"w4": float("nan")}, "static-margin weight and target must be finite and non-negative"),
+    ({"min_overlap": 1.5}, "minimum root overlap must be a fraction between 0 and 1"),
+    ({"speed_range": (3.0, float("inf"))}, "region Omega must have finite"),
+    ({"angle_range_deg": (float("-inf"), 10.0)}, "angle bounds must be finite"),
+    ({"min_wing_gap_mm": float("inf")}, "minimum gap between wings must be finite"),
+    ({"max_evaluations": 0}, "number of evaluations must be at least 1"),
+])
+def test_python_optimize_refuses_options_it_cannot_use(kw, words):
+    with pytest.raises(pteromys.InputError, match=words):
+        pteromys.optimize(pteromys.glider_dict(EXAMPLES[1]), **kw)
