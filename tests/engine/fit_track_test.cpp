@@ -228,6 +228,24 @@ TEST(LaunchFit, BallisticFitRecoversTheParabola) {
   EXPECT_NEAR(f.launch.climb, truth.climb, 1e-6);
 }
 
+// One or two points cannot place a launch (a parabola needs three); the
+// fit took them as three without a word. 0 means all points.
+TEST(LaunchFit, RefusesFewerThanThreePoints) {
+  Rig s("t01-rectangular");
+  const NoAero none;
+  const LaunchParams truth = some_launch();
+  const auto times = frame_times(truth.t, 12);
+  const auto pts = as_points(times, simulate_track(none, s.body, truth, times).positions);
+  LaunchFitOptions o;
+  o.fit_pitch = false;
+  for (int n : {-1, 1, 2}) {
+    o.points = n;
+    EXPECT_THROW(fit_launch(none, s.body, pts, o), InputError) << n;
+  }
+  o.points = 0;
+  EXPECT_LT(fit_launch(none, s.body, pts, o).rmse_m, 1e-7);
+}
+
 TEST(LaunchFit, FirstGuessComesFromTheFirstPointsAndRejectsBackwardFlights) {
   // A parabola through the first points gives the velocity exactly for
   // ballistic points (quadratic in time).

@@ -2,6 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "pteromys/io.hpp"
 #include "test_support.hpp"
 
@@ -41,6 +47,41 @@ TEST(Optimize, EveryExampleFliesFromZeroAngles) {
       }
     EXPECT_LE(r.cost.total, r.cost_start.total) << path;
     EXPECT_EQ(r.cost.c1, 0.0) << path << ": a flyable optimum has restoring moments at both ends of Omega";
+  }
+}
+
+// Options no optimisation can use are refused by the engine itself (not
+// only by the command line): an infinite weight made every cost infinite
+// and the optimiser stopped at once with the design unchanged.
+TEST(Optimize, RefusesOptionsItCannotUse) {
+  const auto model = default_model();
+  const Glider g = from_file("examples/gliders/tapered.glider.json");
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // what is changed, and a word the refusal must name
+  std::vector<std::pair<std::string, std::function<void(OptimizeOptions&)>>> bad = {
+      {"cost weights", [&](OptimizeOptions& o) { o.w1 = inf; }},
+      {"cost weights", [&](OptimizeOptions& o) { o.w2 = nan; }},
+      {"static-margin weight", [&](OptimizeOptions& o) { o.w4 = inf; }},
+      {"static-margin weight", [&](OptimizeOptions& o) { o.min_static_margin = nan; }},
+      {"root overlap", [&](OptimizeOptions& o) { o.min_overlap_fraction = 1.5; }},
+      {"region Omega", [&](OptimizeOptions& o) { o.region.v_max = inf; }},
+      {"angle bounds", [&](OptimizeOptions& o) { o.angle_min_deg = -inf; }},
+      {"gap between wings", [&](OptimizeOptions& o) { o.min_wing_gap_m = inf; }},
+      {"launch height", [&](OptimizeOptions& o) { o.analysis.launch_height = 150; }},
+      {"number of evaluations", [&](OptimizeOptions& o) { o.max_evaluations = 0; }},
+  };
+  for (const auto& [words, set] : bad) {
+    OptimizeOptions o;
+    o.max_evaluations = 5;
+    EXPECT_NO_THROW(optimize(g, model, o)) << "the control, before: " << words;
+    set(o);
+    try {
+      optimize(g, model, o);
+      ADD_FAILURE() << "not refused: " << words;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
   }
 }
 
