@@ -50,6 +50,12 @@ std::vector<TrackedPoint> as_points(const std::vector<double>& t, const std::vec
   return out;
 }
 
+// 12 frames of a throw without aerodynamics (a parabola), from the launch's time.
+std::vector<TrackedPoint> ballistic_points(const Rig& s, const LaunchParams& truth) {
+  const auto times = frame_times(truth.t, 12);
+  return as_points(times, simulate_track(NoAero(), s.body, truth, times).positions);
+}
+
 }  // namespace
 
 TEST(SimulateTrack, MatchesTheEngineSimulationAtStepTimes) {
@@ -218,8 +224,7 @@ TEST(LaunchFit, BallisticFitRecoversTheParabola) {
   Rig s("t01-rectangular");
   const NoAero none;
   const LaunchParams truth = some_launch();
-  const auto times = frame_times(truth.t, 12);
-  const auto pts = as_points(times, simulate_track(none, s.body, truth, times).positions);
+  const auto pts = ballistic_points(s, truth);
   LaunchFitOptions o;
   o.fit_pitch = false;
   const LaunchFit f = fit_launch(none, s.body, pts, o);
@@ -233,9 +238,7 @@ TEST(LaunchFit, BallisticFitRecoversTheParabola) {
 TEST(LaunchFit, RefusesFewerThanThreePoints) {
   Rig s("t01-rectangular");
   const NoAero none;
-  const LaunchParams truth = some_launch();
-  const auto times = frame_times(truth.t, 12);
-  const auto pts = as_points(times, simulate_track(none, s.body, truth, times).positions);
+  const auto pts = ballistic_points(s, some_launch());
   LaunchFitOptions o;
   o.fit_pitch = false;
   for (int n : {-1, 1, 2}) {
