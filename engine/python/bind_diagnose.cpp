@@ -139,7 +139,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   o.launch_window_s = num("launch_window_s", o.launch_window_s);
   o.near_ground_m = num("near_ground_m", o.near_ground_m);
   o.worst_flights = whole("worst_flights", o.worst_flights, 0, 1000);
-  if (!(o.sim.dt > 0) || o.sim.dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
+  time_step(o.sim.dt);
   if (kw.contains("model") && !kw["model"].is_none()) {
     const ModelPtr m = to_model(kw["model"]);
     if (auto rbf = std::dynamic_pointer_cast<const RbfModel>(m)) o.start = rbf;
@@ -217,12 +217,12 @@ void bind_diagnose(py::module_& m) {
 
   m.def("_diagnosis_fit", [](const std::string& dataset, const py::object& model, const py::dict& values,
                              const std::vector<std::string>& free_names, const py::object& flights, bool warm_baseline,
-                             double dt, int iterations, int threads) {
-    const Dataset d = load_dataset(dataset);
+                             double dt, double iterations, double threads) {
     DiagFitOptions fo;
-    fo.dt = dt;
-    fo.threads = threads;
-    fo.max_iterations = iterations;
+    fo.dt = time_step(dt);
+    fo.threads = whole_number("threads", threads, 0, 256);  // the bounds of diagnose()
+    fo.max_iterations = whole_number("iterations", iterations, 1, 1000);
+    const Dataset d = load_dataset(dataset);
     const DiagnosisData D(d, fo);
     std::vector<int> fl;
     if (flights.is_none()) {

@@ -136,7 +136,7 @@ void bind_fit(py::module_& m) {
         o.threads = whole_number("threads", num("threads", 0), 0, 256);
         o.aero.dz = element_spacing(num("dz", o.aero.dz));
         o.launch.track.sim.dt = num("dt", o.launch.track.sim.dt);
-        if (!(o.launch.track.sim.dt > 0) || o.launch.track.sim.dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
+        time_step(o.launch.track.sim.dt);
         o.use_prior = flag("use_prior", true);
         if (kw.contains("model") && !kw["model"].is_none()) {
           const ModelPtr sm = to_model(kw["model"]);
@@ -179,7 +179,7 @@ void bind_fit(py::module_& m) {
         o.points = points;
         o.fit_pitch_rate = fit_pitch_rate;
         o.fit_pitch = !ballistic;
-        o.track.sim.dt = dt;
+        o.track.sim.dt = time_step(dt);
         LaunchFit f;
         {
           py::gil_scoped_release nogil;
@@ -202,7 +202,7 @@ void bind_fit(py::module_& m) {
           if ((i && T[i] < T[i - 1]) || T[i] < p.t - 1e-12) throw InputError("times must increase from the launch time");
         const auto a = aero_of(g, model, ballistic, dz);
         TrackOptions o;
-        o.sim.dt = dt;
+        o.sim.dt = time_step(dt);
         Track tr;
         {
           py::gil_scoped_release nogil;

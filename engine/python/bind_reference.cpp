@@ -288,7 +288,7 @@ void bind_reference(py::module_& m) {
         o.launcher.height = height;
         o.wind_m_s = wind_m_s;
         o.threads = threads;
-        o.dt = dt;
+        o.dt = time_step(dt);
         GenerateStats st;
         {
           py::gil_scoped_release nogil;

@@ -35,6 +35,9 @@ double element_spacing(double dz);
 /// The standard launches' height [m] if in [0, 100], as the commands'
 /// --height; otherwise InputError "height must be between 0 and 100 m".
 double launch_height(double height);
+/// A simulation step [s] if in (0, 0.05], as every command's --dt; otherwise
+/// InputError "dt must be in (0, 0.05] s".
+double time_step(double dt);
 /// One launch from Python keywords (simulate, reference_simulate): every
 /// value finite, speed and height not negative; pitch_deg None = along the path.
 Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,

@@ -49,6 +49,11 @@ double launch_height(double v) {
   return v;
 }
 
+double time_step(double dt) {
+  if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
+  return dt;
+}
+
 Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,
                   double pitch_rate_deg_s) {
   Launch l;
@@ -67,7 +72,7 @@ Launch one_launch(double speed, double climb_deg, double height, const py::objec
 
 SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every) {
   SimOptions o;
-  if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
+  time_step(dt);
   // (the samples are reserved for t_max / dt steps: an infinite t_max was
   // undefined behaviour, a huge one an allocation failure)
   if (!(t_max > 0) || t_max > 600) throw InputError("t_max must be in (0, 600] s");

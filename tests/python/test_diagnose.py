@@ -617,6 +617,22 @@ def test_zeroed_reference_only_lowers_likelihood_ratios(tmp_path, camera_case):
     assert "with its values at 0, launches refitted" not in r.stderr
 
 
+@pytest.mark.parametrize("key, value, words", [
+    ("iterations", 0, "iterations must be a whole number between 1 and 1000"),
+    ("iterations", 2.5, "iterations must be a whole number between 1 and 1000"),
+    ("threads", -1, "threads must be a whole number between 0 and 256"),
+    ("dt", 0.1, "dt must be in \\(0, 0.05\\] s"),
+])
+def test_python_diagnosis_fit_refuses_what_diagnose_refuses(key, value, words):
+    """diagnosis_fit (one corrected-model fit) has diagnose()'s bounds; it
+    took a negative or fractional iteration count and any thread count.
+    Checked before the dataset is read: a missing one is not what is reported."""
+    import importlib
+    diagnosis_fit = importlib.import_module("pteromys.diagnose").diagnosis_fit
+    with pytest.raises(Exception, match=words):
+        diagnosis_fit("/nonexistent/dataset.json", **{key: value})
+
+
 def test_python_call_refuses_a_bad_stability(tmp_path):
     import pteromys
     ds = _generate(tmp_path, "d", "baseline")

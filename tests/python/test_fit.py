@@ -322,6 +322,14 @@ def test_python_launch_fit_recovers_the_release(tmp_path):
     for n in (1, 2, -1):
         with pytest.raises(pteromys.InputError, match="0 \\(all\\) or at least 3; got %d" % n):
             pteromys.fit_launch(GLIDERS["rect"], t, x, y, model=pteromys.flat_plate_model(), points=n)
+    # the step bound of every other call and of the commands' --dt: a 0.1 s
+    # step was taken (it skips most of a 1 s track), a zero one refused by
+    # the engine in other words
+    for dt in (0.0, 0.1, float("nan")):
+        with pytest.raises(pteromys.InputError, match="dt must be in \\(0, 0.05\\] s"):
+            pteromys.fit_launch(GLIDERS["rect"], t, x, y, dt=dt)
+        with pytest.raises(pteromys.InputError, match="dt must be in \\(0, 0.05\\] s"):
+            pteromys.simulate_track(GLIDERS["rect"], f, t, dt=dt)
 
 
 def test_insertion_tries_only_add_centres_the_stopping_rule_accepts(tmp_path):
