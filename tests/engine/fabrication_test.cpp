@@ -31,25 +31,6 @@ const Joint& joint_of(const PlateSet& s, const std::string& wing) {
   throw std::runtime_error("no joint for " + wing);
 }
 
-/// Examples the default options can build: every example except those that
-/// tests/data/fabrication/expected.json lists as refused (with their
-/// messages, checked in tests/python/test_export.py).
-bool buildable(const std::string& path) {
-  static const std::vector<std::string> refused = [] {
-    std::vector<std::string> out;
-    const auto j = nlohmann::json::parse(read_file(test::source_path("tests/data/fabrication/expected.json")));
-    for (const auto& [name, c] : j.items()) {
-      const std::string g = c.at("glider").get<std::string>();
-      if (c.at("args").empty() && g.find("examples/gliders/") != std::string::npos)
-        out.push_back(g.substr(g.find_last_of('/') + 1));
-    }
-    return out;
-  }();
-  for (const auto& r : refused)
-    if (path.size() >= r.size() && path.compare(path.size() - r.size(), r.size(), r) == 0) return false;
-  return true;
-}
-
 /// Width across and length along `dir` of a polygon.
 std::pair<double, double> extent_along(const Polygon& p, Vec2 dir) {
   const Vec2 n{-dir.y, dir.x};
@@ -218,7 +199,7 @@ TEST(Fabrication, OptionsOutOfRangeAreRefusedInPlainWords) {
 TEST(Fabrication, HalvesTogetherMakeTheWholeWing) {
   int tested = 0, impossible = 0;
   for (const auto& [path, g] : test::examples()) {
-    if (!buildable(path)) continue;
+    if (!test::buildable(path)) continue;
     for (const auto& w : g.wings) {
       FabricationOptions o;
       o.joints[w.name] = JointType::Halves;
@@ -261,7 +242,7 @@ TEST(Fabrication, HalvesTogetherMakeTheWholeWing) {
 TEST(Fabrication, CrossLapSlotsMeetAtTheSplit) {
   int seen = 0;
   for (const auto& [path, g] : test::examples()) {
-    if (!buildable(path)) continue;
+    if (!test::buildable(path)) continue;
     const PlateSet s = slotted_plates(g);
     for (std::size_t j = 0; j < g.wings.size(); ++j) {
       const Joint& jt = s.joints[j];
@@ -293,7 +274,7 @@ TEST(Fabrication, CrossLapSlotsMeetAtTheSplit) {
 // Every engraved mark lies on its part's material.
 TEST(Fabrication, MarksLieOnTheMaterial) {
   for (const auto& [path, g] : test::examples()) {
-    if (!buildable(path)) continue;
+    if (!test::buildable(path)) continue;
     const PlateSet s = slotted_plates(g);
     for (const auto& p : s.plates) {
       const fab::Region r{p.outline, p.holes};
@@ -324,7 +305,7 @@ TEST(Fabrication, MarksLieOnTheMaterial) {
 // Outlines counter-clockwise, holes clockwise, finished areas consistent.
 TEST(Fabrication, OutlinesAreCounterClockwiseAndHolesClockwise) {
   for (const auto& [path, g] : test::examples()) {
-    if (!buildable(path)) continue;
+    if (!test::buildable(path)) continue;
     const PlateSet s = slotted_plates(g);
     for (const auto& p : s.plates) {
       EXPECT_GT(signed_area(p.outline), 0) << path << " " << p.name;

@@ -127,24 +127,6 @@ std::string tmp_path(const std::string& name) {
   return std::string(PTEROMYS_BINARY_DIR) + "/step_test_" + name + "_" + std::to_string(::getpid()) + ".step";
 }
 
-/// Examples the default options can build: every example except those that
-/// tests/data/fabrication/expected.json lists as refused (with their
-/// messages, checked in tests/python/test_export.py).
-bool buildable(const std::string& path) {
-  static const std::vector<std::string> refused = [] {
-    std::vector<std::string> out;
-    const auto j = nlohmann::json::parse(read_file(test::source_path("tests/data/fabrication/expected.json")));
-    for (const auto& [name, c] : j.items()) {
-      const std::string g = c.at("glider").get<std::string>();
-      if (c.at("args").empty() && g.find("examples/gliders/") != std::string::npos)
-        out.push_back(g.substr(g.find_last_of('/') + 1));
-    }
-    return out;
-  }();
-  for (const auto& r : refused)
-    if (path.size() >= r.size() && path.compare(path.size() - r.size(), r.size(), r) == 0) return false;
-  return true;
-}
 std::string stem(const std::string& path) {
   const auto s = path.find_last_of('/');
   return path.substr(s + 1, path.find('.', s) - s - 1);
@@ -172,7 +154,7 @@ Written write_and_read(const Glider& g, const FabricationOptions& o, const std::
 // areas against the glider file independently).
 TEST(StepExport, ReadBackGivesOneNamedSolidPerPlateWithAreaTimesThickness) {
   for (const auto& [path, g] : test::examples()) {
-    if (!buildable(path)) continue;
+    if (!test::buildable(path)) continue;
     const Written w = write_and_read(g, {}, stem(path));
     ASSERT_EQ(w.rb.shapes.size(), w.plates.plates.size()) << path;
     for (std::size_t i = 0; i < w.rb.shapes.size(); ++i) {
@@ -228,7 +210,7 @@ TEST(StepExport, AssembledSolidsDoNotInterpenetrateBeyondTheClearance) {
 // (away from the slots) sit where the mount puts them within 0.1 mm.
 TEST(StepExport, WingAngleAndPositionMeasuredOnTheSolidsMatchTheDesign) {
   for (const auto& [path, g] : test::examples()) {
-    if (!buildable(path)) continue;
+    if (!test::buildable(path)) continue;
     const Written w = write_and_read(g, {}, stem(path));
     const double t = g.material.thickness_m * 1000;
     for (std::size_t i = 0; i < w.plates.plates.size(); ++i) {

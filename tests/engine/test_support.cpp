@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include "pteromys/io.hpp"
 
 namespace pteromys::test {
@@ -12,6 +14,25 @@ std::vector<std::pair<std::string, Glider>> examples() {
   std::vector<std::pair<std::string, Glider>> out;
   for (const auto& p : example_paths()) out.emplace_back(p, load_glider(p));
   return out;
+}
+
+/// Examples the default options can build: every example except those that
+/// tests/data/fabrication/expected.json lists as refused (with their
+/// messages, checked in tests/python/test_export.py).
+bool buildable(const std::string& path) {
+  static const std::vector<std::string> refused = [] {
+    std::vector<std::string> out;
+    const auto j = nlohmann::json::parse(read_file(test::source_path("tests/data/fabrication/expected.json")));
+    for (const auto& [name, c] : j.items()) {
+      const std::string g = c.at("glider").get<std::string>();
+      if (c.at("args").empty() && g.find("examples/gliders/") != std::string::npos)
+        out.push_back(g.substr(g.find_last_of('/') + 1));
+    }
+    return out;
+  }();
+  for (const auto& r : refused)
+    if (path.size() >= r.size() && path.compare(path.size() - r.size(), r.size(), r) == 0) return false;
+  return true;
 }
 
 Polygon rect(double x0, double y0, double x1, double y1) {

@@ -15,6 +15,11 @@ std::vector<std::pair<std::string, Glider>> examples();
 /// Path inside the source tree.
 std::string source_path(const std::string& rel);
 
+/// Examples the default options can build: every example except those that
+/// tests/data/fabrication/expected.json lists as refused (with their
+/// messages, checked in tests/python/test_export.py).
+bool buildable(const std::string& path);
+
 /// Axis-aligned rectangle [x0, x1] x [y0, y1], counter-clockwise.
 Polygon rect(double x0, double y0, double x1, double y1);
 
