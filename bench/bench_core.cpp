@@ -13,26 +13,15 @@
 #include "pteromys/io.hpp"
 #include "pteromys/optimize.hpp"
 
+#include "bench_common.hpp"
+
 using namespace pteromys;
-
-namespace {
-
-std::vector<std::string> examples() {
-  return glider_files_in(std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders");
-}
-
-std::string short_name(const std::string& p) {
-  const auto s = p.find_last_of('/');
-  return p.substr(s + 1, p.size() - s - 1 - 12);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const auto model = default_model();
-  for (const auto& path : examples()) {
+  for (const auto& path : bench::example_paths()) {
     const Glider g = load_glider(path);
-    const std::string n = short_name(path);
+    const std::string n = bench::short_name(path);
     benchmark::RegisterBenchmark(("tables/" + n).c_str(), [g, model](benchmark::State& st) {
       for (auto _ : st) {
         GliderAero a(g, model);

@@ -18,18 +18,11 @@
 #include "pteromys/io.hpp"
 #include "pteromys/step_export.hpp"
 
+#include "bench_common.hpp"
+
 using namespace pteromys;
 
 namespace {
-
-std::vector<std::string> examples() {
-  return glider_files_in(std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders");
-}
-
-std::string short_name(const std::string& p) {
-  const auto s = p.find_last_of('/');
-  return p.substr(s + 1, p.size() - s - 1 - 12);
-}
 
 std::string tmp(const std::string& n, const char* ext) {
   return "/tmp/pteromys_bench_export_" + std::to_string(::getpid()) + "_" + n + ext;
@@ -38,9 +31,9 @@ std::string tmp(const std::string& n, const char* ext) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (const auto& path : examples()) {
+  for (const auto& path : bench::example_paths()) {
     const Glider g = load_glider(path);
-    const std::string n = short_name(path);
+    const std::string n = bench::short_name(path);
     FabricationOptions fo;
     try {
       slotted_plates(g, fo);

@@ -18,14 +18,12 @@
 #include "pteromys/io.hpp"
 #include "pteromys/optimize.hpp"
 
+#include "bench_common.hpp"
+
 using namespace pteromys;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-std::vector<std::string> examples() {
-  return glider_files_in(std::string(PTEROMYS_SOURCE_DIR) + "/examples/gliders");
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -38,7 +36,7 @@ double ms_since(Clock::time_point t) { return std::chrono::duration<double, std:
 
 int main() {
   const auto model = default_model();
-  const auto paths = examples();
+  const auto paths = bench::example_paths();
   std::printf("Interactive loop (median of 15 runs, ms)\n");
   std::printf("%-18s %10s %10s %8s %8s\n", "example", "loop_cold", "warm", "evals", "w_evals");
   std::vector<double> all_cold, all_warm;
@@ -60,8 +58,7 @@ int main() {
       warm.push_back(ms_since(t));
       wev = w.evaluations;
     }
-    const std::string n = p.substr(p.find_last_of('/') + 1);
-    std::printf("%-18s %10.2f %10.2f %8d %8d\n", n.substr(0, n.size() - 12).c_str(), median(cold), median(warm), ev, wev);
+    std::printf("%-18s %10.2f %10.2f %8d %8d\n", bench::short_name(p).c_str(), median(cold), median(warm), ev, wev);
     all_cold.push_back(median(cold));
     all_warm.push_back(median(warm));
   }
