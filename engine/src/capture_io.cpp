@@ -4,42 +4,14 @@
 
 #include "pteromys/capture.hpp"
 #include "pteromys/io.hpp"
+#include "json_reader.hpp"
 
 namespace pteromys::capture {
 using nlohmann::json;
 
 namespace {
 
-struct R {
-  std::string what;
-  [[noreturn]] void fail(const std::string& m) const { throw InputError(what + ": " + m); }
-  double num(const json& v, const std::string& path) const {
-    if (v.is_null()) fail(path + " is null (NaN is not a number in JSON)");
-    if (!v.is_number()) fail(path + " must be a number");
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(path + " is not a finite number");
-    return d;
-  }
-  const json& key(const json& o, const char* k, const std::string& path) const {
-    if (!o.is_object()) fail((path.empty() ? std::string("the file") : path) + " must be a JSON object");
-    auto it = o.find(k);
-    if (it == o.end()) fail("missing key '" + (path.empty() ? std::string(k) : path + "." + k) + "'");
-    return *it;
-  }
-  Vec2 pair(const json& v, const std::string& path) const {
-    if (!v.is_array() || v.size() != 2) fail(path + " must be a pair of numbers [a, b]");
-    return {num(v[0], path + "[0]"), num(v[1], path + "[1]")};
-  }
-  Mat3 mat3(const json& v, const std::string& path) const {
-    if (!v.is_array() || v.size() != 3) fail(path + " must be a 3 x 3 list of numbers");
-    Mat3 m;
-    for (int i = 0; i < 3; ++i) {
-      if (!v[i].is_array() || v[i].size() != 3) fail(path + " must be a 3 x 3 list of numbers");
-      for (int j = 0; j < 3; ++j) m[3 * i + j] = num(v[i][j], path + "[" + std::to_string(i) + "][" + std::to_string(j) + "]");
-    }
-    return m;
-  }
-};
+using R = detail::JsonReader;
 
 json mat3_json(const Mat3& m) {
   return json::array({json::array({m[0], m[1], m[2]}), json::array({m[3], m[4], m[5]}), json::array({m[6], m[7], m[8]})});
@@ -56,7 +28,7 @@ Lens lens_from_json(const json& cam, const R& r, const std::string& path) {
   if (cam.contains("dist_coeffs")) {
     const json& d = cam["dist_coeffs"];
     if (!d.is_array() || d.size() > 5) r.fail(path + ".dist_coeffs must be a list of up to 5 numbers (k1, k2, p1, p2, k3)");
-    for (std::size_t i = 0; i < d.size(); ++i) l.dist[i] = r.num(d[i], path + ".dist_coeffs[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < d.size(); ++i) l.dist[i] = r.number(d[i], path + ".dist_coeffs[" + std::to_string(i) + "]");
   }
   return l;
 }
@@ -64,7 +36,7 @@ Lens lens_from_json(const json& cam, const R& r, const std::string& path) {
 }  // namespace
 
 CalibrationInput calibration_input_from_json(const json& j, const std::string& what) {
-  const R r{what};
+  const R r{what + ": "};
   if (!j.is_object()) r.fail("must be a JSON object");
   if (!j.contains("format") || j["format"] != "pteromys-calib-points/1")
     r.fail("unknown format (expected \"format\": \"pteromys-calib-points/1\")");
@@ -93,7 +65,7 @@ CalibrationInput calibration_input_from_json(const json& j, const std::string& w
       r.fail("distortion must be one of \"auto\", \"none\", \"k1\", \"k1k2\" (got \"" + in.distortion + "\")");
   }
   if (j.contains("click_sigma_px")) {
-    in.click_sigma_px = r.num(j["click_sigma_px"], "click_sigma_px");
+    in.click_sigma_px = r.number(j["click_sigma_px"], "click_sigma_px");
     if (!(in.click_sigma_px > 0)) r.fail("click_sigma_px must be positive");
   }
   if (j.contains("camera") && !j["camera"].is_null()) {
@@ -104,11 +76,11 @@ CalibrationInput calibration_input_from_json(const json& j, const std::string& w
       in.lens.intrinsics_known = true;
     }
     if (cam.contains("focal_px")) {
-      in.focal_px = r.num(cam["focal_px"], "camera.focal_px");
+      in.focal_px = r.number(cam["focal_px"], "camera.focal_px");
       if (!(in.focal_px > 0)) r.fail("camera.focal_px must be positive");
     }
     if (cam.contains("distance_m")) {
-      in.distance_m = r.num(cam["distance_m"], "camera.distance_m");
+      in.distance_m = r.number(cam["distance_m"], "camera.distance_m");
       if (!(in.distance_m > 0)) r.fail("camera.distance_m must be positive");
     }
   }
@@ -189,7 +161,7 @@ json calibration_to_json(const Calibration& c) {
 }
 
 Calibration calibration_from_json(const json& j, const std::string& what) {
-  const R r{what};
+  const R r{what + ": "};
   if (!j.is_object()) r.fail("must be a JSON object");
   if (!j.contains("format") || j["format"] != "pteromys-calibration/1") {
     if (j.contains("format") && j["format"] == "pteromys-calib-points/1")
@@ -225,15 +197,15 @@ Calibration calibration_from_json(const json& j, const std::string& what) {
   if (j.contains("camera") && j["camera"].is_object()) {
     const json& cam = j["camera"];
     c.pose.known = true;
-    c.pose.focal_px = r.num(r.key(cam, "focal_px", "camera"), "camera.focal_px");
-    c.pose.focal_y_px = cam.contains("focal_y_px") ? r.num(cam["focal_y_px"], "camera.focal_y_px") : c.pose.focal_px;
+    c.pose.focal_px = r.number(r.key(cam, "focal_px", "camera"), "camera.focal_px");
+    c.pose.focal_y_px = cam.contains("focal_y_px") ? r.number(cam["focal_y_px"], "camera.focal_y_px") : c.pose.focal_px;
     c.pose.R = r.mat3(r.key(cam, "rotation", "camera"), "camera.rotation");
     const json& t = r.key(cam, "translation_m", "camera");
     if (!t.is_array() || t.size() != 3) r.fail("camera.translation_m must be three numbers");
-    for (int i = 0; i < 3; ++i) c.pose.t[i] = r.num(t[i], "camera.translation_m");
+    for (int i = 0; i < 3; ++i) c.pose.t[i] = r.number(t[i], "camera.translation_m");
     const json& p = r.key(cam, "position_m", "camera");
     if (!p.is_array() || p.size() != 3) r.fail("camera.position_m must be three numbers");
-    c.pose.centre = {r.num(p[0], "camera.position_m"), r.num(p[1], "camera.position_m"), r.num(p[2], "camera.position_m")};
+    c.pose.centre = {r.number(p[0], "camera.position_m"), r.number(p[1], "camera.position_m"), r.number(p[2], "camera.position_m")};
     c.pose.distance_m = std::abs(c.pose.centre.z);
     c.pose.source = cam.contains("from") && cam["from"].is_string() ? cam["from"].get<std::string>() : "";
   }

@@ -17,6 +17,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "json_reader.hpp"
+
 #ifndef PTEROMYS_SOURCE_DIR
 #define PTEROMYS_SOURCE_DIR ""
 #endif
@@ -27,48 +29,7 @@
 namespace pteromys {
 using nlohmann::json;
 
-namespace {
-
-// Reading JSON with messages that name the key path.
-struct Reader {
-  std::string where;  // "" or a prefix such as "glider file x.json: "
-
-  [[noreturn]] void fail(const std::string& msg) const { throw InputError(where + msg); }
-
-  const json& key(const json& obj, const char* k, const std::string& path) const {
-    if (!obj.is_object()) fail(path + " must be an object");
-    auto it = obj.find(k);
-    if (it == obj.end()) fail("missing key '" + (path.empty() ? std::string(k) : path + "." + k) + "'");
-    return *it;
-  }
-  double number(const json& v, const std::string& path) const {
-    if (v.is_null()) fail(path + " is null (NaN is not allowed)");
-    if (!v.is_number()) fail(path + " must be a number");
-    const double d = v.get<double>();
-    if (!std::isfinite(d)) fail(path + " is not a finite number");
-    return d;
-  }
-  double number(const json& obj, const char* k, const std::string& path) const {
-    return number(key(obj, k, path), path.empty() ? std::string(k) : path + "." + k);
-  }
-  std::string string(const json& obj, const char* k, const std::string& path) const {
-    const json& v = key(obj, k, path);
-    if (!v.is_string()) fail((path.empty() ? std::string(k) : path + "." + k) + " must be a string");
-    return v.get<std::string>();
-  }
-  Polygon polygon(const json& v, const std::string& path) const {
-    if (!v.is_array()) fail(path + " must be a list of [x, y] pairs");
-    Polygon p;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string pi = path + "[" + std::to_string(i) + "]";
-      if (!v[i].is_array() || v[i].size() != 2) fail(pi + " must be a pair of numbers");
-      p.push_back({number(v[i][0], pi + "[0]"), number(v[i][1], pi + "[1]")});
-    }
-    return p;
-  }
-};
-
-}  // namespace
+using Reader = detail::JsonReader;
 
 json num_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
