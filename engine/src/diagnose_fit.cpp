@@ -190,6 +190,24 @@ struct FitContext {
     if (keep) *keep = std::move(tr);
   }
 
+  /// Forward-difference Jacobian of flight fi's residuals over the first nl
+  /// launch values at launch L, whose residuals are r0 (step 1e-6 relative,
+  /// at least 1e-6 absolute). `also` as residuals().
+  Eigen::MatrixXd launch_jacobian(const Setup& s, int fi, const LaunchParams& L, const Eigen::VectorXd& r0, int nl,
+                                  std::atomic<long>* also = nullptr) const {
+    Eigen::MatrixXd J(r0.size(), nl);
+    Eigen::VectorXd r1;
+    for (int k = 0; k < nl; ++k) {
+      LaunchParams p = L;
+      double* v = launch_value(p, k);
+      const double h = 1e-6 * std::max(1.0, std::abs(*v));
+      *v += h;
+      residuals(s, fi, p, r1, nullptr, also);
+      J.col(k) = (r1 - r0) / h;
+    }
+    return J;
+  }
+
   /// Gauss-Newton refinement of a launch from a warm start (finite-difference
   /// Jacobian, Levenberg damping): a few iterations suffice when the start is
   /// the linear prediction of the shared parameters' step.
@@ -204,16 +222,7 @@ struct FitContext {
     const int nl = launch_count(s.ev);
     for (int it = 0; it < iterations; ++it) {
       ++refine_iterations;
-      const int m = static_cast<int>(r.size());
-      Eigen::MatrixXd J(m, nl);
-      for (int k = 0; k < nl; ++k) {
-        LaunchParams p = L;
-        double* v = launch_value(p, k);
-        const double h = 1e-6 * std::max(1.0, std::abs(*v));
-        *v += h;
-        residuals(s, fi, p, r1, nullptr, also);
-        J.col(k) = (r1 - r) / h;
-      }
+      const Eigen::MatrixXd J = launch_jacobian(s, fi, L, r, nl, also);
       const Eigen::MatrixXd H = J.transpose() * J;
       const Eigen::VectorXd g = J.transpose() * r;
       bool better = false;
@@ -493,16 +502,9 @@ FitOutcome DiagnosisData::fit(const DiagModel& start, const std::vector<int>& fl
         const int g = flight_glider_[fi];
         const Eigen::VectorXd& r0 = R[f];
         const int m = static_cast<int>(r0.size());
-        Eigen::MatrixXd JL(m, nl), JT = Eigen::MatrixXd::Zero(m, np);
+        const Eigen::MatrixXd JL = C.launch_jacobian(*S, fi, L[f], r0, nl);
+        Eigen::MatrixXd JT = Eigen::MatrixXd::Zero(m, np);
         Eigen::VectorXd r1;
-        for (int k = 0; k < nl; ++k) {
-          LaunchParams p = L[f];
-          double* v = launch_value(p, k);
-          const double hh = 1e-6 * std::max(1.0, std::abs(*v));
-          *v += hh;
-          C.residuals(*S, fi, p, r1);
-          JL.col(k) = (r1 - r0) / hh;
-        }
         for (int k = 0; k < np; ++k) {
           if (!touches(free[k], g)) continue;
           C.residuals(*Sp[k], fi, L[f], r1);
@@ -670,15 +672,8 @@ Eigen::MatrixXd DiagnosisData::projected_jacobian(const FitOutcome& at, const st
     Eigen::VectorXd r0, r1;
     C.residuals(*S, fi, at.flights[f].launch, r0);
     const int m = static_cast<int>(r0.size());
-    Eigen::MatrixXd JL(m, nl), JT = Eigen::MatrixXd::Zero(m, np);
-    for (int k = 0; k < nl; ++k) {
-      LaunchParams p = at.flights[f].launch;
-      double* v = launch_value(p, k);
-      const double hh = 1e-6 * std::max(1.0, std::abs(*v));
-      *v += hh;
-      C.residuals(*S, fi, p, r1);
-      JL.col(k) = (r1 - r0) / hh;
-    }
+    const Eigen::MatrixXd JL = C.launch_jacobian(*S, fi, at.flights[f].launch, r0, nl);
+    Eigen::MatrixXd JT = Eigen::MatrixXd::Zero(m, np);
     for (int k = 0; k < np; ++k) {
       if (!touches(free[k], g)) continue;
       C.residuals(*Sp[k], fi, at.flights[f].launch, r1);
