@@ -13,6 +13,17 @@ struct OptimizeState {
   OptimizeResult result;
 };
 
+/// The design cost's terms C1..C4 (paper section 6; C4 the static-margin term) and their weighted total.
+py::dict cost_dict(const CostTerms& c) {
+  py::dict t;
+  t["c1"] = c.c1;
+  t["c2"] = c.c2;
+  t["c3"] = c.c3;
+  t["c4"] = c.c4;
+  t["total"] = c.total;
+  return t;
+}
+
 py::dict result_dict(const OptimizeResult& r, const Glider& g, const ModelPtr& model) {
   auto json = py::module_::import("json");
   nlohmann::json rep = report_to_json(r.report);
@@ -24,17 +35,8 @@ py::dict result_dict(const OptimizeResult& r, const Glider& g, const ModelPtr& m
   py::list flights;
   for (const auto& l : r.report.launches) flights.append(samples_array(l.flight));
   d["flights"] = flights;
-  auto terms = [](const CostTerms& c) {
-    py::dict t;
-    t["c1"] = c.c1;
-    t["c2"] = c.c2;
-    t["c3"] = c.c3;
-    t["c4"] = c.c4;
-    t["total"] = c.total;
-    return t;
-  };
-  d["cost"] = terms(r.cost);
-  d["cost_start"] = terms(r.cost_start);
+  d["cost"] = cost_dict(r.cost);
+  d["cost_start"] = cost_dict(r.cost_start);
   py::list vars;
   for (const auto& v : r.variables) {
     py::dict e;
@@ -128,12 +130,7 @@ void bind_optimize(py::module_& m) {
         std::vector<double> v;
         for (const auto& x : cost.variables()) v.push_back(x.value);
         const CostTerms c = cost.evaluate(v);
-        py::dict t;
-        t["c1"] = c.c1;
-        t["c2"] = c.c2;
-        t["c3"] = c.c3;
-        t["c4"] = c.c4;
-        t["total"] = c.total;
+        py::dict t = cost_dict(c);
         t["speeds_without_equilibrium"] = c.speeds_without_equilibrium;
         return t;
       },
