@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "pteromys/io.hpp"
+
 namespace pteromys::cli {
 
 double Args::number(const std::string& k, double def) const {
@@ -16,10 +18,7 @@ double Args::number(const std::string& k, double def) const {
 }
 
 int Args::whole(const std::string& k, int def, int lo, int hi) const {
-  const double v = number(k, def);
-  if (v != std::floor(v) || v < lo || v > hi)
-    throw InputError(k + " must be a whole number between " + std::to_string(lo) + " and " + std::to_string(hi));
-  return static_cast<int>(v);
+  return whole_number(k, number(k, def), lo, hi);
 }
 
 Args parse_args(const std::vector<std::string>& argv, const std::set<std::string>& valued,

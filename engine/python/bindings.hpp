@@ -10,6 +10,7 @@
 #include "pteromys/analysis.hpp"
 #include "pteromys/coefficients.hpp"
 #include "pteromys/glider.hpp"
+#include "pteromys/io.hpp"
 #include "pteromys/version.hpp"
 
 namespace pteromys::python {
@@ -22,9 +23,6 @@ inline std::shared_ptr<CoefficientModel> mut(const ModelPtr& p) { return std::co
 Glider to_glider(const py::object& o);
 /// A model from None (the shipped default), a path, or a model object.
 ModelPtr to_model(const py::object& o);
-/// `v` as an int if it is a whole number in [lo, hi]; otherwise InputError
-/// "KEY must be a whole number between LO and HI" (keyword options).
-int whole_number(const char* key, double v, int lo, int hi);
 /// Trajectory as an (n x 9) array: t, x, y, pitch_deg, speed, alpha_deg, omega_deg_s, vx, vy.
 py::array_t<double> samples_array(const Flight& f);
 /// `v` if finite; otherwise InputError "KEY must be a finite number".

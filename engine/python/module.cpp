@@ -27,13 +27,6 @@ Glider to_glider(const py::object& o) {
   throw InputError("expected a Glider, a glider dict (spec format) or a path to a .glider.json file");
 }
 
-int whole_number(const char* key, double v, int lo, int hi) {
-  if (v != std::floor(v) || v < lo || v > hi)
-    throw InputError(std::string(key) + " must be a whole number between " + std::to_string(lo) + " and " +
-                     std::to_string(hi));
-  return static_cast<int>(v);
-}
-
 double finite_value(const char* key, double v) {
   if (!std::isfinite(v)) throw InputError(std::string(key) + " must be a finite number");
   return v;

@@ -213,6 +213,12 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   commit_temp_file(tmp, path);
 }
 
+int whole_number(const std::string& key, double v, int lo, int hi) {
+  if (v != std::floor(v) || v < lo || v > hi)
+    throw InputError(key + " must be a whole number between " + std::to_string(lo) + " and " + std::to_string(hi));
+  return static_cast<int>(v);
+}
+
 std::vector<std::string> glider_files_in(const std::string& dir) {
   std::vector<std::string> out;
   DIR* d = opendir(dir.c_str());

@@ -74,6 +74,11 @@ bool rename_temp_into_place(const std::string& tmp, const std::string& path);
 void remove_temp_files_on_signal();
 std::string read_file(const std::string& path);
 
+/// An option value `v` as an int if it is a whole number in [lo, hi];
+/// otherwise InputError "KEY must be a whole number between LO and HI". The
+/// one check behind the commands' counts (Args::whole) and Python's keywords.
+int whole_number(const std::string& key, double v, int lo, int hi);
+
 /// Paths of the *.glider.json files directly in `dir`, sorted. Throws
 /// InputError when the directory cannot be read.
 std::vector<std::string> glider_files_in(const std::string& dir);
