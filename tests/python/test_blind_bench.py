@@ -783,3 +783,40 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     assert tuple(int(g) for g in stated.groups()) == (flown, len(rows), every, some)
     row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
     assert stated.group(0) in row
+
+
+def test_camera_folds_measures_how_the_folds_agree(tmp_path):
+    """bench/diagnosis/camera_folds.py: |mean| / s.d. of the camera's four
+    fold values. Worked out by hand: rolls 1, 3, 1, 3 have mean 2 and
+    population s.d. 1, so 2.0; scale errors 0.01, 0.03, 0.01, 0.03 likewise
+    2.0; a camera at 0.2 scale in a fold is implausible (limit 0.15); a run
+    without fold values is left out; equal nonzero folds agree infinitely."""
+    spec_cf = importlib.util.spec_from_file_location("camera_folds",
+                                                     os.path.join(ROOT, "bench", "diagnosis", "camera_folds.py"))
+    cf = importlib.util.module_from_spec(spec_cf)
+    spec_cf.loader.exec_module(cf)
+    assert cf.agreement([1, 3, 1, 3]) == pytest.approx(2.0)
+    assert cf.agreement([2, 2, 2, 2]) == float("inf") and cf.agreement([0, 0, 0, 0]) == 0.0
+    assert [cf.truth_of(c) for c in ("camera-1-s24-g20", "null-s187", "wind-1-s22", "camera+wind-s41")] == \
+        ["camera", "null", "other", "other"]
+    import gzip
+    d = tmp_path / "runs" / "abc1234"
+    d.mkdir(parents=True)
+
+    def write(name, folds, verdict):
+        cam = {"name": "camera", "shrink": 0.04, "parameters": {"roll_deg": 2.0, "scale_error": 0.02},
+               "likelihood_ratio": {"delta_chi2": 100.0}, "cross_validation": {"gliders_improved": 7}}
+        if folds is not None:
+            cam["fold_parameters"] = [{"roll_deg": r, "scale_error": s} for r, s in folds]
+        with gzip.open(d / (name + ".diagnosis.json.gz"), "wt") as f:
+            json.dump({"verdict": verdict, "effects": [{"name": "wind"}, cam]}, f)
+
+    write("camera-1-s1-g20", [(1, 0.01), (3, 0.03), (1, 0.01), (3, 0.03)], "none")
+    write("null-s2", [(1, 0.01), (3, 0.2), (1, 0.01), (3, 0.03)], "none")
+    write("pitch_damping-1-s3", None, "pitch_damping")
+    rows = {r["case"]: r for r in cf.camera_rows(str(tmp_path / "runs"))}
+    assert sorted(rows) == ["camera-1-s1-g20", "null-s2"]
+    a = rows["camera-1-s1-g20"]
+    assert (a["truth"], a["commit"], a["verdict"], a["plausible"]) == ("camera", "abc1234", "none", True)
+    assert a["roll_agreement"] == pytest.approx(2.0) and a["scale_agreement"] == pytest.approx(2.0)
+    assert rows["null-s2"]["plausible"] is False and rows["null-s2"]["truth"] == "null"

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""How consistently the camera candidate's values come back across the
+cross-validation folds, for every archived blind run (bench/diagnosis/runs):
+a question, not a rule of the diagnosis.
+
+At 20 gliders the camera cases s24, s30 and s37 were lost (docs/diagnosis.md,
+*At the issue's size*): their oracles' held-out shrink falls to the 5 %
+margin, while the fitted camera (roll and scale error) is right. A camera is
+one for the whole dataset, so where it is real each fold should find about
+the same roll and scale; where a camera only soaks up a model's misfit, the
+folds should scatter. This script measures that, per run, as
+
+    agreement = |mean of the four fold values| / (their standard deviation)
+
+for the roll and the scale error, and groups the runs by their truth (the
+camera cases, the null data, every other effect). It changes nothing in the
+diagnosis; a rule built on it would need the null benchmark re-flown.
+
+    /usr/bin/python3 bench/diagnosis/camera_folds.py [--archive bench/diagnosis/runs] [--out DIR]
+
+Prints a table (markdown) and writes OUT/camera_folds.png (needs
+python3-matplotlib).
+"""
+import argparse
+import gzip
+import json
+import os
+import statistics
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+# The diagnosis's default plausible camera (engine/src/effects.cpp, the
+# camera's parameters): a scale error up to 0.15, a roll up to 10 degrees.
+PLAUSIBLE_SCALE, PLAUSIBLE_ROLL_DEG = 0.15, 10.0
+
+
+def agreement(values):
+    """|mean| / population standard deviation of the fold values (inf when
+    they are all equal and not zero, 0 when all are zero)."""
+    m = statistics.mean(values)
+    sd = statistics.pstdev(values)
+    if sd == 0:
+        return 0.0 if m == 0 else float("inf")
+    return abs(m) / sd
+
+
+def truth_of(case):
+    """The group of a case name: 'camera' (the camera alone), 'null', or 'other'."""
+    if case.startswith("null"):
+        return "null"
+    if case.split("-")[0] == "camera":  # not a two-effect case such as camera+wind
+        return "camera"
+    return "other"
+
+
+def camera_rows(archive):
+    """One dict per archived run with the camera among its candidates and
+    its fold values: case, commit, verdict, shrink, the fold values and their
+    agreement, the values on all gliders, delta chi2 and gliders better."""
+    rows = []
+    for commit in sorted(os.listdir(archive)):
+        d = os.path.join(archive, commit)
+        if not os.path.isdir(d):
+            continue
+        for f in sorted(os.listdir(d)):
+            if not f.endswith(".diagnosis.json.gz"):
+                continue
+            with gzip.open(os.path.join(d, f), "rt") as fh:
+                r = json.load(fh)
+            cam = [e for e in r.get("effects", []) if e.get("name") == "camera"]
+            folds = cam[0].get("fold_parameters") if cam else None
+            if not folds:
+                continue
+            e = cam[0]
+            roll = [x["roll_deg"] for x in folds]
+            scale = [x["scale_error"] for x in folds]
+            case = f[: -len(".diagnosis.json.gz")]
+            rows.append({
+                "case": case, "commit": commit, "truth": truth_of(case), "verdict": r.get("verdict"),
+                "shrink": e.get("shrink", 0.0), "roll_folds": roll, "scale_folds": scale,
+                "roll_agreement": agreement(roll), "scale_agreement": agreement(scale),
+                "roll": e.get("parameters", {}).get("roll_deg"), "scale": e.get("parameters", {}).get("scale_error"),
+                "delta_chi2": e.get("likelihood_ratio", {}).get("delta_chi2"),
+                "gliders_better": e.get("cross_validation", {}).get("gliders_improved"),
+            })
+            x = rows[-1]
+            x["plausible"] = all(abs(v) <= PLAUSIBLE_SCALE for v in scale) and all(abs(v) <= PLAUSIBLE_ROLL_DEG for v in roll)
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--archive", default=os.path.join(HERE, "runs"))
+    ap.add_argument("--out", default=None, help="folder for camera_folds.png (default: no figure)")
+    a = ap.parse_args(argv)
+    rows = camera_rows(a.archive)
+    if not rows:
+        sys.exit("camera_folds: no archived run with the camera's fold values in %s" % a.archive)
+    print("| case | commit | truth | verdict | camera's shrink | roll folds (deg) | scale folds | agreement roll / scale | plausible |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    key = {"camera": 0, "null": 1, "other": 2}
+    for x in sorted(rows, key=lambda x: (key[x["truth"]], -min(x["roll_agreement"], x["scale_agreement"]))):
+        print("| %s | %s | %s | %s | %.1f %% | %s | %s | %.1f / %.1f | %s |" % (
+            x["case"], x["commit"], x["truth"], x["verdict"], 100 * x["shrink"],
+            ", ".join("%.2f" % v for v in x["roll_folds"]), ", ".join("%.3f" % v for v in x["scale_folds"]),
+            x["roll_agreement"], x["scale_agreement"], "yes" if x["plausible"] else "no"))
+    for t in ("camera", "null", "other"):
+        for plausible in (True, False):
+            sel = [min(x["roll_agreement"], x["scale_agreement"]) for x in rows
+                   if x["truth"] == t and x["plausible"] == plausible]
+            if sel:
+                print("%s, %s: %d runs, the lesser agreement from %.1f to %.1f (median %.1f)" %
+                      (t, "a plausible camera in every fold" if plausible else "an implausible camera in some fold", len(sel), min(sel), max(sel),
+                       statistics.median(sel)))
+    if a.out:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        os.makedirs(a.out, exist_ok=True)
+        fig, ax = plt.subplots(figsize=(6.4, 4.8))
+        style = {"camera": ("tab:blue", "o", "camera cases"), "null": ("tab:green", "s", "null data"),
+                 "other": ("tab:gray", "x", "other effects")}
+        for t, (c, m, label) in style.items():
+            sel = [x for x in rows if x["truth"] == t and x["plausible"]]
+            if sel:
+                ax.scatter([min(x["roll_agreement"], 200) for x in sel], [min(x["scale_agreement"], 200) for x in sel],
+                           c=c, marker=m, label="%s (%d)" % (label, len(sel)))
+        for x in rows:
+            if x["truth"] == "camera" and x["verdict"] != "camera":
+                ax.annotate(x["case"] + " (" + x["verdict"] + ")", (x["roll_agreement"], x["scale_agreement"]),
+                            fontsize=7, xytext=(4, -8), textcoords="offset points")
+        ax.set_xscale("symlog", linthresh=1)
+        ax.set_yscale("symlog", linthresh=1)
+        ax.set_xlabel("roll: |fold mean| / fold s.d.")
+        ax.set_ylabel("scale error: |fold mean| / fold s.d.")
+        ax.set_title("The camera candidate's fold values (plausible sizes), archived runs", fontsize=10)
+        ax.legend(loc="upper left", fontsize=8)
+        fig.tight_layout()
+        p = os.path.join(a.out, "camera_folds.png")
+        fig.savefig(p, dpi=110)
+        print("wrote", p)
+
+
+if __name__ == "__main__":
+    main()
