@@ -32,6 +32,10 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 # The diagnosis's default plausible camera (engine/src/effects.cpp, the
 # camera's parameters): a scale error up to 0.15, a roll up to 10 degrees.
 PLAUSIBLE_SCALE, PLAUSIBLE_ROLL_DEG = 0.15, 10.0
+# The proposed rule's agreement threshold, and the repository commit at
+# which it was proposed (the archive then is the data it was chosen on).
+RULE_AGREEMENT = 3.0
+RULE_CHOSEN_AT = "069ceef"
 
 
 def agreement(values):
@@ -51,6 +55,41 @@ def truth_of(case):
     if case.split("-")[0] == "camera":  # not a two-effect case such as camera+wind
         return "camera"
     return "other"
+
+
+def _heldout_pass(cv):
+    """The held-out chi-square test of the decision rule: the held-out
+    improvement above its threshold (False when either is missing)."""
+    d, t = cv.get("delta_chi2"), cv.get("threshold")
+    return d is not None and t is not None and d > t
+
+
+def rule_would_name(x, threshold=RULE_AGREEMENT):
+    """The rule proposed on 2026-12-05 (docs/diagnosis.md, "The camera's
+    folds agree where the camera is real"), replayed on a stored run: the
+    camera is named under the shrink margin when no effect was named (verdict
+    none or unexplained), its fit is plausible in every fold and on all
+    gliders, its folds agree (the lesser agreement at least `threshold`), its
+    likelihood ratio passed, its held-out gain is above its chi-square
+    threshold and positive, and the glider and bound guards pass. The engine
+    does not apply it; this says what it would do."""
+    return (x["verdict"] in ("none", "unexplained") and x["plausible"] and x["engine_plausible"] and
+            min(x["roll_agreement"], x["scale_agreement"]) >= threshold and x["lr_pass"] and
+            x["heldout_pass"] and x["shrink"] > 0 and x["guards_pass"])
+
+
+def seen_when_chosen(root, commit=RULE_CHOSEN_AT):
+    """The archived runs (commit/file) that existed when the rule was chosen:
+    the archive's files at repository commit `commit` (git ls-tree). Runs
+    archived since are out of sample. None when git or the commit is not
+    available (a shallow clone): then nothing is called fresh."""
+    import subprocess
+    try:
+        out = subprocess.run(["git", "-C", root, "ls-tree", "-r", "--name-only", commit, "bench/diagnosis/runs"],
+                             capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return {"/".join(l.split("/")[-2:]) for l in out.splitlines() if l.endswith(".diagnosis.json.gz")}
 
 
 def camera_rows(archive):
@@ -82,6 +121,11 @@ def camera_rows(archive):
                 "roll": e.get("parameters", {}).get("roll_deg"), "scale": e.get("parameters", {}).get("scale_error"),
                 "delta_chi2": e.get("likelihood_ratio", {}).get("delta_chi2"),
                 "gliders_better": e.get("cross_validation", {}).get("gliders_improved"),
+                "lr_pass": bool(e.get("likelihood_ratio", {}).get("pass")),
+                "heldout_pass": _heldout_pass(e.get("cross_validation", {})),
+                "guards_pass": bool(e.get("cross_validation", {}).get("robust_pass", True)) and
+                bool(e.get("cross_validation", {}).get("bound_pass", True)),
+                "engine_plausible": bool(e.get("plausible", True)),
             })
             x = rows[-1]
             x["plausible"] = all(abs(v) <= PLAUSIBLE_SCALE for v in scale) and all(abs(v) <= PLAUSIBLE_ROLL_DEG for v in roll)
@@ -112,6 +156,23 @@ def main(argv=None):
                 print("%s, %s: %d runs, the lesser agreement from %.1f to %.1f (median %.1f)" %
                       (t, "a plausible camera in every fold" if plausible else "an implausible camera in some fold", len(sel), min(sel), max(sel),
                        statistics.median(sel)))
+    seen = seen_when_chosen(os.path.dirname(os.path.dirname(HERE)))
+    named = [x for x in rows if rule_would_name(x)]
+    for fresh in (False, True):
+        if seen is None and fresh:
+            print("(git history not available: the runs archived since the rule was chosen are not told apart)")
+            continue
+        sel = [x for x in rows if seen is None or ((x["commit"] + "/" + x["case"] + ".diagnosis.json.gz") not in seen) == fresh]
+        label = ("archived since the rule was proposed (%s), out of sample" % RULE_CHOSEN_AT if fresh else
+                 "archived when the rule was proposed (the data it was chosen on)" if seen is not None else "all archived")
+        n = [x for x in named if x in sel]
+        print("The rule (agreement >= %.0f) on the %d runs %s: would name the camera on %d: %s; of them camera cases %d, "
+              "null %d, other effects %d" % (RULE_AGREEMENT, len(sel), label, len(n),
+                                             ", ".join("%s (%s, %.1f)" % (x["case"], x["commit"],
+                                                                          min(x["roll_agreement"], x["scale_agreement"]))
+                                                       for x in n) or "none",
+                                             sum(x["truth"] == "camera" for x in n), sum(x["truth"] == "null" for x in n),
+                                             sum(x["truth"] == "other" for x in n)))
     if a.out:
         import matplotlib
         matplotlib.use("Agg")

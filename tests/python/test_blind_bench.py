@@ -422,7 +422,7 @@ def test_the_documented_confusion_matrix_is_the_tables_count():
     recounted from the top-1 table: every cell, and each row's hits."""
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     table = _top1_table(text)
-    head, rows = _rows_after(text, "| truth (nameable) \\ verdict | camera | downwash | finite_span | launch_rotation "
+    head, rows = _rows_after(text, "| truth (nameable) \\ verdict | added_mass | camera | downwash | finite_span | launch_rotation "
                                    "| pitch_damping | wind | none | unexplained | named right |")
     verdicts = [h.strip() for h in head[1:-1]]
     truths = sorted({case.split("-")[0] for case, _, _, _ in table})
@@ -687,9 +687,11 @@ def test_the_blind_figures_are_drawn_from_the_documented_table_and_the_archive(t
     assert sum(m[e][e] for e in m) == sum(1 for case, _, verdict, _ in _top1_table(text) if verdict == case.split("-")[0])
     found, missing = pb.strengths(rows, rb.ARCHIVE)
     assert len(found) + len(missing) == len(rows) and len(found) >= 20
-    # finite span s40 is archived at 43a3327 (the table's commit): its all-glider strength, read directly.
+    # finite span s40 is archived at the table's commit: its all-glider strength, read directly.
     import gzip
-    with gzip.open(os.path.join(rb.ARCHIVE, "43a3327", "finite_span-1-s40.diagnosis.json.gz"), "rt") as f:
+    _, table = _rows_after(text, "| case | oracle | verdict | true effect's shrink | commit |")
+    commit = next(c[4] for c in table if c[0] == "finite_span-1-s40").split(",")[0]
+    with gzip.open(os.path.join(rb.ARCHIVE, commit, "finite_span-1-s40.diagnosis.json.gz"), "rt") as f:
         stored = next(e for e in json.load(f)["effects"] if e["name"] == "finite_span")
     fs40 = next(f for f in found if f["case"] == "finite_span-1-s40")
     assert fs40["all"] == [pytest.approx(stored["parameters"]["strength"])]
@@ -820,3 +822,45 @@ def test_camera_folds_measures_how_the_folds_agree(tmp_path):
     assert (a["truth"], a["commit"], a["verdict"], a["plausible"]) == ("camera", "abc1234", "none", True)
     assert a["roll_agreement"] == pytest.approx(2.0) and a["scale_agreement"] == pytest.approx(2.0)
     assert rows["null-s2"]["plausible"] is False and rows["null-s2"]["truth"] == "null"
+
+
+def test_camera_folds_replays_the_proposed_rule(tmp_path):
+    """camera_folds.rule_would_name: the camera rule proposed on 2026-12-05,
+    replayed on stored runs. Each condition is switched off in turn on a run
+    that passes all of them, and the run must then not be named: folds that
+    agree (rolls 2, 2.2, 1.8, 2 and scales 0.02, 0.022, 0.018, 0.02: mean /
+    s.d. = 2 / 0.1414 = 14.1 for both) against folds that scatter (1, 3, 1, 3:
+    2.0, under 3); a verdict already named; the likelihood ratio failed; the
+    held-out gain under its threshold; a shrink of 0; a guard failed."""
+    spec_cf = importlib.util.spec_from_file_location("camera_folds",
+                                                     os.path.join(ROOT, "bench", "diagnosis", "camera_folds.py"))
+    cf = importlib.util.module_from_spec(spec_cf)
+    spec_cf.loader.exec_module(cf)
+    import gzip
+    d = tmp_path / "runs" / "abc1234"
+    d.mkdir(parents=True)
+
+    def write(name, verdict="unexplained", folds=((2, 0.02), (2.2, 0.022), (1.8, 0.018), (2, 0.02)), lr=True,
+              dchi2=50.0, shrink=0.03, robust=True):
+        cam = {"name": "camera", "shrink": shrink, "plausible": True,
+               "parameters": {"roll_deg": 2.0, "scale_error": 0.02},
+               "fold_parameters": [{"roll_deg": r, "scale_error": s} for r, s in folds],
+               "likelihood_ratio": {"delta_chi2": 100.0, "pass": lr},
+               "cross_validation": {"gliders_improved": 7, "delta_chi2": dchi2, "threshold": 13.6,
+                                    "robust_pass": robust, "bound_pass": True}}
+        with gzip.open(d / (name + ".diagnosis.json.gz"), "wt") as f:
+            json.dump({"verdict": verdict, "effects": [cam]}, f)
+
+    write("camera-1-s1")
+    write("camera-1-s2", folds=((1, 0.01), (3, 0.03), (1, 0.01), (3, 0.03)))
+    write("camera-1-s3", verdict="wind")
+    write("camera-1-s4", lr=False)
+    write("camera-1-s5", dchi2=10.0)
+    write("camera-1-s6", shrink=0.0)
+    write("camera-1-s7", robust=False)
+    write("camera-1-s8", folds=((2, 0.02), (2.2, 0.2), (1.8, 0.018), (2, 0.02)))  # 0.2: implausible in a fold
+    rows = {r["case"]: r for r in cf.camera_rows(str(tmp_path / "runs"))}
+    assert rows["camera-1-s1"]["roll_agreement"] == pytest.approx(2 / (0.02 ** 0.5), rel=1e-9)
+    named = sorted(c for c, r in rows.items() if cf.rule_would_name(r))
+    assert named == ["camera-1-s1"]
+    assert cf.rule_would_name(rows["camera-1-s2"], threshold=1.9)
