@@ -111,6 +111,7 @@ def camera_rows(archive):
             if not folds:
                 continue
             e = cam[0]
+            cv = e.get("cross_validation", {})
             roll = [x["roll_deg"] for x in folds]
             scale = [x["scale_error"] for x in folds]
             case = f[: -len(".diagnosis.json.gz")]
@@ -120,11 +121,10 @@ def camera_rows(archive):
                 "roll_agreement": agreement(roll), "scale_agreement": agreement(scale),
                 "roll": e.get("parameters", {}).get("roll_deg"), "scale": e.get("parameters", {}).get("scale_error"),
                 "delta_chi2": e.get("likelihood_ratio", {}).get("delta_chi2"),
-                "gliders_better": e.get("cross_validation", {}).get("gliders_improved"),
+                "gliders_better": cv.get("gliders_improved"),
                 "lr_pass": bool(e.get("likelihood_ratio", {}).get("pass")),
-                "heldout_pass": _heldout_pass(e.get("cross_validation", {})),
-                "guards_pass": bool(e.get("cross_validation", {}).get("robust_pass", True)) and
-                bool(e.get("cross_validation", {}).get("bound_pass", True)),
+                "heldout_pass": _heldout_pass(cv),
+                "guards_pass": bool(cv.get("robust_pass", True)) and bool(cv.get("bound_pass", True)),
                 "engine_plausible": bool(e.get("plausible", True)),
             })
             x = rows[-1]
@@ -157,15 +157,14 @@ def main(argv=None):
                       (t, "a plausible camera in every fold" if plausible else "an implausible camera in some fold", len(sel), min(sel), max(sel),
                        statistics.median(sel)))
     seen = seen_when_chosen(os.path.dirname(os.path.dirname(HERE)))
-    named = [x for x in rows if rule_would_name(x)]
     for fresh in (False, True):
         if seen is None and fresh:
             print("(git history not available: the runs archived since the rule was chosen are not told apart)")
             continue
-        sel = [x for x in rows if seen is None or ((x["commit"] + "/" + x["case"] + ".diagnosis.json.gz") not in seen) == fresh]
+        sel = [x for x in rows if seen is None or (x["commit"] + "/" + x["case"] + ".diagnosis.json.gz" not in seen) == fresh]
         label = ("archived since the rule was proposed (%s), out of sample" % RULE_CHOSEN_AT if fresh else
                  "archived when the rule was proposed (the data it was chosen on)" if seen is not None else "all archived")
-        n = [x for x in named if x in sel]
+        n = [x for x in sel if rule_would_name(x)]
         print("The rule (agreement >= %.0f) on the %d runs %s: would name the camera on %d: %s; of them camera cases %d, "
               "null %d, other effects %d" % (RULE_AGREEMENT, len(sel), label, len(n),
                                              ", ".join("%s (%s, %.1f)" % (x["case"], x["commit"],

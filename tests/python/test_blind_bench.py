@@ -240,6 +240,15 @@ def test_summary_tells_a_right_answer_without_a_gap_from_a_wrong_one_and_counts_
 
 # bench/diagnosis/rule_replay.py: the per-effect decision replayed on stored
 # diagnoses, and alternatives to it.
+def _bench_module(name):
+    """A fresh import of bench/diagnosis/NAME.py (the bench scripts are not a
+    package)."""
+    spec_m = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "bench", "diagnosis", name + ".py"))
+    m = importlib.util.module_from_spec(spec_m)
+    spec_m.loader.exec_module(m)
+    return m
+
+
 rr_spec = importlib.util.spec_from_file_location("rule_replay",
                                                  os.path.join(ROOT, "bench", "diagnosis", "rule_replay.py"))
 rr = importlib.util.module_from_spec(rr_spec)
@@ -677,9 +686,7 @@ def test_the_blind_figures_are_drawn_from_the_documented_table_and_the_archive(t
     blind_strengths.png: its rows are the top-1 table's as this file reads
     them, and a fitted strength it plots is the archived run's own value in
     the reference's units (read here from the stored JSON)."""
-    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
-    pb = importlib.util.module_from_spec(spec_pb)
-    spec_pb.loader.exec_module(pb)
+    pb = _bench_module("plot_blind")
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     rows = pb.top1_rows(text)
     assert [(r["case"], r["oracle"], r["verdict"], r["shrink"]) for r in rows] == _top1_table(text)
@@ -711,9 +718,7 @@ def test_the_tally_at_the_issues_size_counts_each_table_case_by_its_wide_runs(tm
     run; the camera s2 flown once and named; pitch damping s3 not flown; a
     -g20 run of a case not in the table and an eight-glider run of a table
     case are not counted."""
-    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
-    pb = importlib.util.module_from_spec(spec_pb)
-    spec_pb.loader.exec_module(pb)
+    pb = _bench_module("plot_blind")
     arch = tmp_path / "runs"
     for commit, name, verdict, shrink in (("aaa1111", "finite_span-1-s1-g20", "finite_span", 0.12),
                                           ("bbb2222", "finite_span-1-s1-g20", "unexplained", 0.04),
@@ -741,9 +746,7 @@ def test_a_case_whose_oracle_at_20_gliders_is_under_the_margin_is_listed(tmp_pat
     closes less than the 5 % margin (4.2 %, as the camera s24's did) is
     listed; one whose oracle reaches it (6 %) and one without an oracle are
     not; a case with two oracle runs is listed only if both are under."""
-    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
-    pb = importlib.util.module_from_spec(spec_pb)
-    spec_pb.loader.exec_module(pb)
+    pb = _bench_module("plot_blind")
     arch = tmp_path / "runs"
     for commit, name, oracle in (("aaa1111", "camera-1-s2-g20", 0.042), ("aaa1111", "finite_span-1-s1-g20", 0.06),
                                  ("aaa1111", "wind-1-s4-g20", None), ("aaa1111", "pitch_damping-1-s3-g20", 0.03),
@@ -773,9 +776,7 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     wide_tally over bench/diagnosis/runs), not carried forward in prose:
     a run archived or a case re-flown changes the count, and the document
     must follow."""
-    spec_pb = importlib.util.spec_from_file_location("plot_blind", os.path.join(ROOT, "bench", "diagnosis", "plot_blind.py"))
-    pb = importlib.util.module_from_spec(spec_pb)
-    spec_pb.loader.exec_module(pb)
+    pb = _bench_module("plot_blind")
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     rows = pb.top1_rows(text)
     flown, every, some, unflown = pb.wide_tally(pb.wide_runs(rows, rb.ARCHIVE))
@@ -793,10 +794,7 @@ def test_camera_folds_measures_how_the_folds_agree(tmp_path):
     population s.d. 1, so 2.0; scale errors 0.01, 0.03, 0.01, 0.03 likewise
     2.0; a camera at 0.2 scale in a fold is implausible (limit 0.15); a run
     without fold values is left out; equal nonzero folds agree infinitely."""
-    spec_cf = importlib.util.spec_from_file_location("camera_folds",
-                                                     os.path.join(ROOT, "bench", "diagnosis", "camera_folds.py"))
-    cf = importlib.util.module_from_spec(spec_cf)
-    spec_cf.loader.exec_module(cf)
+    cf = _bench_module("camera_folds")
     assert cf.agreement([1, 3, 1, 3]) == pytest.approx(2.0)
     assert cf.agreement([2, 2, 2, 2]) == float("inf") and cf.agreement([0, 0, 0, 0]) == 0.0
     assert [cf.truth_of(c) for c in ("camera-1-s24-g20", "null-s187", "wind-1-s22", "camera+wind-s41")] == \
@@ -832,10 +830,7 @@ def test_camera_folds_replays_the_proposed_rule(tmp_path):
     s.d. = 2 / 0.1414 = 14.1 for both) against folds that scatter (1, 3, 1, 3:
     2.0, under 3); a verdict already named; the likelihood ratio failed; the
     held-out gain under its threshold; a shrink of 0; a guard failed."""
-    spec_cf = importlib.util.spec_from_file_location("camera_folds",
-                                                     os.path.join(ROOT, "bench", "diagnosis", "camera_folds.py"))
-    cf = importlib.util.module_from_spec(spec_cf)
-    spec_cf.loader.exec_module(cf)
+    cf = _bench_module("camera_folds")
     import gzip
     d = tmp_path / "runs" / "abc1234"
     d.mkdir(parents=True)
