@@ -859,3 +859,54 @@ def test_camera_folds_replays_the_proposed_rule(tmp_path):
     named = sorted(c for c, r in rows.items() if cf.rule_would_name(r))
     assert named == ["camera-1-s1"]
     assert cf.rule_would_name(rows["camera-1-s2"], threshold=1.9)
+
+
+def test_verdict_folds_sorts_named_runs_and_counts_a_guard(tmp_path):
+    """verdict_folds.named_runs / sweep on a hand-made archive: a right name
+    whose folds agree (1, 1.2, 0.8, 1: |mean| / pop. s.d. = 1 / 0.1414 = 7.07),
+    the same run archived again under a later commit (counted once), a wrong
+    name whose folds scatter (0, 2, 0, 2: 1 / 1 = 1), a named null whose
+    folds agree (wrong all the same), one of the two effects of a two-effect
+    case (right; 0.5, 1.5, 0.5, 1.5: 1 / 0.5 = 2), and a `none` (left out).
+    A guard at 2 stops the scattering wrong name only (2 is not under 2); at
+    2.5 it loses the two-effect case too; only a huge threshold stops the
+    agreeing null."""
+    vf = _bench_module("verdict_folds")
+    import gzip
+
+    def write(commit, case, verdict, folds):
+        d = tmp_path / "runs" / commit
+        d.mkdir(parents=True, exist_ok=True)
+        effects = [{"name": verdict, "shrink": 0.1, "fold_parameters": [{"strength": v} for v in folds]}]
+        with gzip.open(d / (case + ".diagnosis.json.gz"), "wt") as f:
+            json.dump({"verdict": verdict, "effects": effects if verdict != "none" else []}, f)
+
+    write("aaa1111", "finite_span-1-s1", "finite_span", (1, 1.2, 0.8, 1))
+    write("bbb2222", "finite_span-1-s1", "finite_span", (1, 1.2, 0.8, 1))
+    write("aaa1111", "pitch_damping-1-s2", "added_mass", (0, 2, 0, 2))
+    write("aaa1111", "null-s3", "wind", (-0.1, -0.1, -0.1, -0.1000001))
+    write("aaa1111", "wind+camera-s4", "camera", (0.5, 1.5, 0.5, 1.5))
+    write("aaa1111", "null-s5", "none", ())
+    rows = {r["case"]: r for r in vf.named_runs(str(tmp_path / "runs"))}
+    assert sorted(rows) == ["finite_span-1-s1", "null-s3", "pitch_damping-1-s2", "wind+camera-s4"]
+    assert rows["finite_span-1-s1"]["commits"] == ["aaa1111", "bbb2222"]
+    assert rows["finite_span-1-s1"]["agreement"] == pytest.approx(1 / 0.02 ** 0.5, rel=1e-9)
+    assert rows["pitch_damping-1-s2"]["agreement"] == pytest.approx(1.0)
+    assert [rows[c]["right"] for c in sorted(rows)] == [True, False, False, True]
+    assert vf.sweep(list(rows.values()), thresholds=(2.0, 2.5, 1e7)) == [(2.0, 1, 2, 0, 2), (2.5, 1, 2, 1, 2),
+                                                                         (1e7, 2, 2, 2, 2)]
+
+
+def test_the_documented_fold_guard_counts_are_the_archives():
+    """docs/diagnosis.md's "Would the same measure stop wrong names?" states
+    what a fold-agreement guard at 1.5 and 2.0 would do; counted again here
+    from the archive by verdict_folds."""
+    vf = _bench_module("verdict_folds")
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    m = re.search(r"On the (\d+) distinct archived runs that name an effect.*?\*\*A guard at agreement 1\.5 would "
+                  r"stop (\d+) of the (\d+) wrong names and\s+lose (\d+) of the (\d+) right ones; at 2\.0, (\d+) of "
+                  r"(\d+) and (\d+) of (\d+)\.\*\*", text, re.S)
+    assert m, "the fold-guard paragraph is missing or reworded"
+    rows = vf.named_runs(rb.ARCHIVE)
+    (_, s15, w15, l15, r15), (_, s20, w20, l20, r20) = vf.sweep(rows, thresholds=(1.5, 2.0))
+    assert [int(x) for x in m.groups()] == [len(rows), s15, w15, l15, r15, s20, w20, l20, r20]
