@@ -133,6 +133,17 @@ def wide_tally(wide):
     return len(flown), every, some, len(wide) - len(flown)
 
 
+def wide_rule_tally(wide):
+    """The table's own rule applied at the issue's size: (nameable, named)
+    where nameable counts the flown cases that are not wide_under_margin
+    (their oracle at -g20 reaches the margin, or they were flown without
+    the oracle, so not known to fall under it) and named those of them
+    whose every -g20 run names the true effect."""
+    under = set(wide_under_margin(wide))
+    kept = [w for w in wide if w["runs"] and w["case"] not in under]
+    return len(kept), sum(1 for w in kept if all(v == w["effect"] for _, v, _ in w["runs"]))
+
+
 def plot_top1(rows, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -268,6 +279,9 @@ def main(argv=None):
     verdicts = {w["case"]: "/".join(v for _, v, _ in w["runs"]) for w in wide}
     print("  flown with the oracle, the oracle under the margin at %s (not nameable by the table's rule; the "
           "verdicts): %s" % (rb.WIDE, ", ".join("%s (%s)" % (c, verdicts[c]) for c in under) or "none"))
+    nameable, named = wide_rule_tally(wide)
+    print("  by the table's rule at %s (the flown cases less those under the margin): %d nameable, %d named in every "
+          "run" % (rb.WIDE, nameable, named))
     print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
     found, missing = strengths(rows, a.archive)
     p2 = os.path.join(a.out, "blind_strengths.png")
