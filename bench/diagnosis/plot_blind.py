@@ -123,12 +123,17 @@ def wide_under_margin(wide):
             all(o < w["margins"][c] for c, o in w["oracles"].items())]
 
 
+def named_every_run(w):
+    """Whether every -g20 run of a wide_runs row names its true effect."""
+    return all(v == w["effect"] for _, v, _ in w["runs"])
+
+
 def wide_tally(wide):
     """(flown, named in every run, named in some run, not flown): the counts
     of wide_runs' rows; a case flown more than once counts as named in
     every run only if each of its runs names the true effect."""
     flown = [w for w in wide if w["runs"]]
-    every = sum(1 for w in flown if all(v == w["effect"] for _, v, _ in w["runs"]))
+    every = sum(1 for w in flown if named_every_run(w))
     some = sum(1 for w in flown if any(v == w["effect"] for _, v, _ in w["runs"]))
     return len(flown), every, some, len(wide) - len(flown)
 
@@ -141,7 +146,7 @@ def wide_rule_tally(wide):
     whose every -g20 run names the true effect."""
     under = set(wide_under_margin(wide))
     kept = [w for w in wide if w["runs"] and w["case"] not in under]
-    return len(kept), sum(1 for w in kept if all(v == w["effect"] for _, v, _ in w["runs"]))
+    return len(kept), sum(1 for w in kept if named_every_run(w))
 
 
 def plot_top1(rows, path):

@@ -731,7 +731,7 @@ def test_the_tally_at_the_issues_size_counts_each_table_case_by_its_wide_runs(tm
     rows = [{"case": "finite_span-1-s1", "effect": "finite_span", "verdict": "none"},
             {"case": "camera-1-s2", "effect": "camera", "verdict": "camera"},
             {"case": "pitch_damping-1-s3", "effect": "pitch_damping", "verdict": "unexplained"}]
-    wide = pb.wide_runs(rows, str(arch))
+    wide = pb.wide_runs(rows, arch)
     assert [w["case"] for w in wide] == [r["case"] for r in rows]
     assert sorted(wide[0]["runs"]) == [("aaa1111", "finite_span", pytest.approx(12.0)),
                                        ("bbb2222", "unexplained", pytest.approx(4.0))]
@@ -741,26 +741,36 @@ def test_the_tally_at_the_issues_size_counts_each_table_case_by_its_wide_runs(tm
     assert wide[1]["oracles"] == {} and pb.wide_under_margin(wide) == []  # no oracle: not known, not excluded
 
 
+def _archive_wide_runs(tmp_path, runs):
+    """Archive finished -g20 runs under tmp_path/runs: each (commit, case,
+    the oracle's held-out shrink or None for a run without the oracle,
+    verdict). Returns the archive directory."""
+    arch = tmp_path / "runs"
+    for commit, name, oracle, verdict in runs:
+        out = tmp_path / ("out-" + commit + name)
+        _finished(out, name, commit, [dict(_stored(name.split("-")[0], True, 0.03, 40.0, False))], verdict=verdict)
+        if oracle is not None:
+            d = json.loads((out / name / "diagnosis.json").read_text())
+            d["oracle"] = {"shrink": oracle}
+            (out / name / "diagnosis.json").write_text(json.dumps(d))
+        rb.archive(str(out), str(arch))
+    return str(arch)
+
+
 def test_a_case_whose_oracle_at_20_gliders_is_under_the_margin_is_listed(tmp_path):
     """wide_under_margin: a -g20 run made with the oracle whose oracle
     closes less than the 5 % margin (4.2 %, as the camera s24's did) is
     listed; one whose oracle reaches it (6 %) and one without an oracle are
     not; a case with two oracle runs is listed only if both are under."""
     pb = _bench_module("plot_blind")
-    arch = tmp_path / "runs"
-    for commit, name, oracle in (("aaa1111", "camera-1-s2-g20", 0.042), ("aaa1111", "finite_span-1-s1-g20", 0.06),
-                                 ("aaa1111", "wind-1-s4-g20", None), ("aaa1111", "pitch_damping-1-s3-g20", 0.03),
-                                 ("bbb2222", "pitch_damping-1-s3-g20", 0.07)):
-        out = tmp_path / ("out-" + commit + name)
-        _finished(out, name, commit, [dict(_stored(name.split("-")[0], True, 0.03, 40.0, False))], verdict="none")
-        if oracle is not None:
-            d = json.loads((out / name / "diagnosis.json").read_text())
-            d["oracle"] = {"shrink": oracle}
-            (out / name / "diagnosis.json").write_text(json.dumps(d))
-        rb.archive(str(out), str(arch))
+    arch = _archive_wide_runs(tmp_path, [("aaa1111", "camera-1-s2-g20", 0.042, "none"),
+                                         ("aaa1111", "finite_span-1-s1-g20", 0.06, "none"),
+                                         ("aaa1111", "wind-1-s4-g20", None, "none"),
+                                         ("aaa1111", "pitch_damping-1-s3-g20", 0.03, "none"),
+                                         ("bbb2222", "pitch_damping-1-s3-g20", 0.07, "none")])
     rows = [{"case": c, "effect": c.split("-")[0], "verdict": "none"}
             for c in ("finite_span-1-s1", "camera-1-s2", "pitch_damping-1-s3", "wind-1-s4")]
-    wide = pb.wide_runs(rows, str(arch))
+    wide = pb.wide_runs(rows, arch)
     assert wide[1]["oracles"] == {"aaa1111": pytest.approx(4.2)}
     assert wide[2]["oracles"] == {"aaa1111": pytest.approx(3.0), "bbb2222": pytest.approx(7.0)}
     assert pb.wide_under_margin(wide) == ["camera-1-s2"]
@@ -778,19 +788,13 @@ def test_the_tables_rule_at_20_gliders_leaves_out_the_cases_under_the_margin(tmp
     (no oracle, named: kept, its oracle not known to be under), null s5
     not flown: 3 nameable, 2 named."""
     pb = _bench_module("plot_blind")
-    arch = tmp_path / "runs"
-    for name, oracle, verdict in (("finite_span-1-s1-g20", 0.06, "finite_span"), ("camera-1-s2-g20", 0.042, "camera"),
-                                  ("pitch_damping-1-s3-g20", 0.07, "unexplained"), ("wind-1-s4-g20", None, "wind")):
-        out = tmp_path / ("out-" + name)
-        _finished(out, name, "aaa1111", [dict(_stored(name.split("-")[0], True, 0.03, 40.0, False))], verdict=verdict)
-        if oracle is not None:
-            d = json.loads((out / name / "diagnosis.json").read_text())
-            d["oracle"] = {"shrink": oracle}
-            (out / name / "diagnosis.json").write_text(json.dumps(d))
-        rb.archive(str(out), str(arch))
+    arch = _archive_wide_runs(tmp_path, [("aaa1111", "finite_span-1-s1-g20", 0.06, "finite_span"),
+                                         ("aaa1111", "camera-1-s2-g20", 0.042, "camera"),
+                                         ("aaa1111", "pitch_damping-1-s3-g20", 0.07, "unexplained"),
+                                         ("aaa1111", "wind-1-s4-g20", None, "wind")])
     rows = [{"case": c, "effect": c.split("-")[0], "verdict": "none"}
             for c in ("finite_span-1-s1", "camera-1-s2", "pitch_damping-1-s3", "wind-1-s4", "finite_span-1-s5")]
-    wide = pb.wide_runs(rows, str(arch))
+    wide = pb.wide_runs(rows, arch)
     assert pb.wide_under_margin(wide) == ["camera-1-s2"]
     assert pb.wide_rule_tally(wide) == (3, 2)
 
@@ -804,7 +808,8 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     pb = _bench_module("plot_blind")
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     rows = pb.top1_rows(text)
-    flown, every, some, unflown = pb.wide_tally(pb.wide_runs(rows, rb.ARCHIVE))
+    wide = pb.wide_runs(rows, rb.ARCHIVE)
+    flown, every, some, unflown = pb.wide_tally(wide)
     stated = re.search(r"\*\*At 20 gliders: (\d+) of the table's (\d+) cases flown, the true effect named in every "
                        r"run of (\d+), in some run of (\d+)\.\*\*", text)
     assert stated, "the 20-glider tally is missing from the top-1 row"
@@ -813,7 +818,6 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     assert stated.group(0) in row
     # the table's own rule at 20 gliders: the flown cases less those whose
     # oracle there is under the margin, named in every run
-    wide = pb.wide_runs(rows, rb.ARCHIVE)
     nameable, named = pb.wide_rule_tally(wide)
     rule = re.search(r"By the table's own rule at 20 gliders \(the flown cases less the (\d+) whose oracle there closes "
                      r"less than the margin[^)]*\), \*\*(\d+) of (\d+) nameable cases named \((\d+) %\)\*\*", row)
