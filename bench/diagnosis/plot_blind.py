@@ -8,13 +8,17 @@ so that they cannot drift from the counted figures:
   beside the confusion matrix recounted from the same table;
 - the tally at the issue's size (printed): the table's cases flown again
   with every training glider (CASE-g20 in the archive) and their verdicts;
+- the tally with the second search (printed): the table's `unexplained`
+  misses diagnosed again with --escalate (archived apart, in
+  bench/diagnosis/runs-escalate) and how many of them it names;
 - the strengths figure: the true effect's fitted strength on all gliders
   and in each fold, in the reference simulator's units (1 = the strength
   the data were made with), for the table's cases whose run at the table's
   commit is archived (bench/diagnosis/runs).
 
     /usr/bin/python3 bench/diagnosis/plot_blind.py [--docs docs/diagnosis.md]
-        [--archive bench/diagnosis/runs] [--out docs/img]
+        [--archive bench/diagnosis/runs] [--archive-escalate bench/diagnosis/runs-escalate]
+        [--out docs/img]
 
 Writes OUT/blind_top1.png and OUT/blind_strengths.png and prints what it
 drew. Needs matplotlib (Debian's python3-matplotlib).
@@ -149,6 +153,38 @@ def wide_rule_tally(wide):
     return len(kept), sum(1 for w in kept if named_every_run(w))
 
 
+def escalate_runs(rows, archive_dir):
+    """The table's cases diagnosed again with the second search
+    (run_blind.py --diagnose-args="--escalate", archived apart in
+    run_blind.ARCHIVE_ESCALATE): for each table row, a list of (commit,
+    first verdict, verdict, the true effect's held-out shrink in percent) of
+    its archived runs in which the second search ran (any commit); a run
+    whose first search named something or said `none` did not search again
+    and is not listed. Rows with no such run have runs == []."""
+    by_name = collections.defaultdict(list)
+    for name, p, r in rb.archived(archive_dir):
+        esc = r.get("escalation", {})
+        if not esc.get("ran"):
+            continue
+        e = next((x for x in r.get("effects", []) if x["name"] == name.split("-")[0]), None)
+        shrink = 100.0 * e["shrink"] if e and e.get("shrink") is not None else float("nan")
+        by_name[name].append((os.path.basename(os.path.dirname(p)), esc.get("first_verdict"), r["verdict"], shrink))
+    return [{"case": row["case"], "effect": row["effect"], "table": row["verdict"], "runs": by_name.get(row["case"], [])}
+            for row in rows]
+
+
+def escalate_tally(esc):
+    """(searched again, named, table hits with them): of escalate_runs'
+    rows whose table verdict is `unexplained` (the only verdict after which
+    the second search runs), those with an archived second search, those
+    whose every such run names the true effect, and the table's hits plus
+    those named."""
+    tried = [w for w in esc if w["table"] == "unexplained" and w["runs"]]
+    named = sum(1 for w in tried if all(v == w["effect"] for _, _, v, _ in w["runs"]))
+    hits = sum(1 for w in esc if w["table"] == w["effect"])
+    return len(tried), named, hits + named
+
+
 def plot_top1(rows, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -261,6 +297,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--docs", default=os.path.join(ROOT, "docs", "diagnosis.md"))
     ap.add_argument("--archive", default=rb.ARCHIVE)
+    ap.add_argument("--archive-escalate", default=rb.ARCHIVE_ESCALATE)
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "img"))
     a = ap.parse_args(argv)
     with open(a.docs, encoding="utf-8") as f:
@@ -288,6 +325,17 @@ def main(argv=None):
     print("  by the table's rule at %s (the flown cases less those under the margin): %d nameable, %d named in every "
           "run" % (rb.WIDE, nameable, named))
     print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
+    esc = escalate_runs(rows, a.archive_escalate)
+    tried, named2, hits2 = escalate_tally(esc)
+    misses = sum(1 for w in esc if w["table"] == "unexplained")
+    print("with the second search (--escalate, archived in %s): %d of the table's %d `unexplained` misses searched "
+          "again, %d named; %d of %d (%.0f %%)" % (os.path.relpath(a.archive_escalate, ROOT), tried, misses, named2,
+                                                  hits2, len(rows), 100.0 * hits2 / len(rows)))
+    for w in esc:
+        for c, first, v, sh in w["runs"]:
+            print("  %-22s %s: first search %s, second %s (%.1f %%)" % (w["case"], c, first, v, sh))
+    print("  not searched again: %s" % (", ".join(w["case"] for w in esc if w["table"] == "unexplained" and
+                                                  not w["runs"]) or "none"))
     found, missing = strengths(rows, a.archive)
     p2 = os.path.join(a.out, "blind_strengths.png")
     plot_strengths(found, len(rows), p2)

@@ -384,6 +384,11 @@ def markdown(s):
 # decision rules (rule_replay.py) and the checks of the documented tables
 # (tests/python/test_blind_bench.py) read them from here.
 ARCHIVE = os.path.join(HERE, "runs")
+# Runs of the second search (--diagnose-args="--escalate") are kept apart:
+# the default's figures (the top-1 table, the 20-glider tally, the rule
+# replays) are counted from ARCHIVE, and a case run both ways would
+# otherwise be counted twice, once with a verdict the default does not give.
+ARCHIVE_ESCALATE = os.path.join(HERE, "runs-escalate")
 ARCHIVE_SUFFIX = ".diagnosis.json.gz"
 
 
@@ -392,10 +397,18 @@ def archive_path(archive_dir, name, r):
     return os.path.join(archive_dir, commit, name + ARCHIVE_SUFFIX)
 
 
-def archive(out, archive_dir):
+def escalated(r):
+    """Whether a diagnosis was run with the second search allowed
+    (`--escalate`; whether or not it then ran)."""
+    return bool(r.get("options", {}).get("escalate")) or bool(r.get("escalation", {}).get("ran"))
+
+
+def archive(out, archive_dir, escalate_dir=None):
     """Copies every finished case under `out` (CASE/diagnosis.json, with the
     case name run_blind.py gives) to archive_dir/COMMIT/CASE.diagnosis.json.gz;
-    a case already archived is left as it is. Returns the paths written."""
+    a case diagnosed with --escalate goes to escalate_dir instead (not
+    archived when that is None); a case already archived is left as it is.
+    Returns the paths written."""
     written = []
     for name in sorted(os.listdir(out)) if os.path.isdir(out) else []:
         res = os.path.join(out, name, "diagnosis.json")
@@ -403,7 +416,10 @@ def archive(out, archive_dir):
             continue
         with open(res) as f:
             r = json.load(f)
-        dst = archive_path(archive_dir, name, r)
+        to = escalate_dir if escalated(r) else archive_dir
+        if not to:
+            continue
+        dst = archive_path(to, name, r)
         if os.path.isfile(dst):
             continue
         os.makedirs(os.path.dirname(dst), exist_ok=True)
@@ -502,8 +518,10 @@ def main():
     ap.add_argument("--archive", default=ARCHIVE,
                     help="where finished cases are kept, compressed, by commit (default bench/diagnosis/runs; "
                          "commit them: out/ does not outlive a checkout)")
-    ap.add_argument("--no-archive", dest="archive", action="store_const", const="",
-                    help="do not copy finished cases to the archive")
+    ap.add_argument("--archive-escalate", default=ARCHIVE_ESCALATE,
+                    help="where finished cases diagnosed with --escalate are kept instead (default "
+                         "bench/diagnosis/runs-escalate)")
+    ap.add_argument("--no-archive", action="store_true", help="do not copy finished cases to either archive")
     ap.add_argument("--no-oracle", dest="oracle", action="store_false",
                     help="do not fit the oracle (the baseline plus the true effects, centre values refitted); the "
                          "noise floor then stands in for it")
@@ -532,8 +550,8 @@ def main():
                     o.write(f.read())
     if not args.summarise:
         run_all(args, gl_dir)
-    if args.archive:
-        for p in archive(args.out, args.archive):
+    if not args.no_archive:
+        for p in archive(args.out, args.archive, args.archive_escalate):
             print("archived %s" % os.path.relpath(p, ROOT), file=sys.stderr, flush=True)
     # The summary covers every finished case in --out (of the lists or
     # named), so that runs of parts of the list (--cases, --quick, runs

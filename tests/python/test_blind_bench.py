@@ -824,6 +824,70 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     assert rule, "the 20-glider figure by the table's rule is missing from the top-1 row"
     assert tuple(int(g) for g in rule.groups()) == (len(pb.wide_under_margin(wide)), named, nameable,
                                                     round(100 * named / nameable))
+    # "In short" repeats the figure by the rule in its own words
+    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    brief = re.search(r"flown by the issue's 20 gliders, (\d+) of the (\d+) cases whose data could show the effect "
+                      r"there, (\d+) %", re.sub(r"\s+", " ", short))
+    assert brief, "'In short' does not give the 20-glider figure by the table's rule"
+    assert tuple(int(g) for g in brief.groups()) == (named, nameable, round(100 * named / nameable))
+
+
+def _escalated(root, name, commit, first, verdict, shrink):
+    """A finished --escalate run: the options say so, and escalation.ran
+    says whether the second search ran (only after a first `unexplained`)."""
+    _finished(root, name, commit, [dict(_stored(name.split("-")[0], True, shrink, 40.0, verdict != "unexplained"))],
+              verdict=verdict)
+    d = json.loads((root / name / "diagnosis.json").read_text())
+    d["options"]["escalate"] = True
+    d["escalation"] = {"ran": first == "unexplained", "first_verdict": first} if first == "unexplained" else \
+        {"ran": False}
+    (root / name / "diagnosis.json").write_text(json.dumps(d))
+
+
+def test_second_search_runs_are_archived_apart_from_the_defaults(tmp_path):
+    """run_blind.archive: a run made with --escalate goes to the second
+    search's archive, never to the default's (whose figures would otherwise
+    count a verdict the default does not give); with no such archive it is
+    not kept at all, and a default run beside it still is."""
+    out, arch, esc = tmp_path / "out", tmp_path / "runs", tmp_path / "runs-escalate"
+    _escalated(out, "finite_span-1-s1", "abc1234", "unexplained", "finite_span", 0.1)
+    _finished(out, "null-s2", "abc1234", [_stored("wind", False, 0.01, 1.0, False)])
+    assert rb.archive(str(out), str(arch)) == [str(arch / "abc1234" / "null-s2.diagnosis.json.gz")]
+    assert rb.archive(str(out), str(arch), str(esc)) == [str(esc / "abc1234" / "finite_span-1-s1.diagnosis.json.gz")]
+    assert [n for n, _, _ in rb.archived(str(arch))] == ["null-s2"]
+    assert [n for n, _, _ in rb.archived(str(esc))] == ["finite_span-1-s1"]
+    assert rb.ARCHIVE_ESCALATE != rb.ARCHIVE and \
+        not os.path.realpath(rb.ARCHIVE_ESCALATE).startswith(os.path.realpath(rb.ARCHIVE) + os.sep)
+
+
+def test_the_second_search_tally_counts_the_tables_unexplained_misses_searched_again(tmp_path):
+    """plot_blind.escalate_runs/escalate_tally. Worked out by hand: the
+    table has 4 cases, one hit (the camera s2) and three `unexplained`
+    misses; finite span s1 searched again twice, named both times; pitch
+    damping s3 once, still `unexplained`; wind s4 not searched again; a run
+    whose first search named something (did not search again) and a run of
+    a case outside the table are not counted: 2 searched again, 1 named,
+    2 of 4 with it."""
+    pb = _bench_module("plot_blind")
+    esc = tmp_path / "runs-escalate"
+    for commit, name, first, verdict, shrink in (("aaa1111", "finite_span-1-s1", "unexplained", "finite_span", 0.1),
+                                                 ("bbb2222", "finite_span-1-s1", "unexplained", "finite_span", 0.12),
+                                                 ("aaa1111", "pitch_damping-1-s3", "unexplained", "unexplained", 0.02),
+                                                 ("aaa1111", "wind-1-s4", "wind", "wind", 0.3),
+                                                 ("aaa1111", "camera-1-s9", "unexplained", "camera", 0.2)):
+        out = tmp_path / ("out-" + commit + name)
+        _escalated(out, name, commit, first, verdict, shrink)
+        assert rb.archive(str(out), str(tmp_path / "runs"), str(esc))
+    rows = [{"case": "finite_span-1-s1", "effect": "finite_span", "verdict": "unexplained"},
+            {"case": "camera-1-s2", "effect": "camera", "verdict": "camera"},
+            {"case": "pitch_damping-1-s3", "effect": "pitch_damping", "verdict": "unexplained"},
+            {"case": "wind-1-s4", "effect": "wind", "verdict": "unexplained"}]
+    got = pb.escalate_runs(rows, str(esc))
+    assert sorted(got[0]["runs"]) == [("aaa1111", "unexplained", "finite_span", pytest.approx(10.0)),
+                                      ("bbb2222", "unexplained", "finite_span", pytest.approx(12.0))]
+    assert got[1]["runs"] == [] and got[3]["runs"] == []
+    assert got[2]["runs"] == [("aaa1111", "unexplained", "unexplained", pytest.approx(2.0))]
+    assert pb.escalate_tally(got) == (2, 1, 2)
 
 
 def test_camera_folds_measures_how_the_folds_agree(tmp_path):
