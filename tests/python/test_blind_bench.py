@@ -573,6 +573,40 @@ def test_the_withholds_exemption_gives_back_a_verdict_that_fits_far_better_than_
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_the_loss_guard_measures_the_shrink_without_the_glider_made_worst():
+    """rule_replay.loss_guard_figures / loss_guard, worked out by hand: 8
+    held-out gliders of 10 points each, the baseline at 2 cm on every one;
+    the candidate at 1.8 cm on seven and 3 cm on g8. Pooled: 1 - sqrt(0.03168
+    / 0.032) = 0.50 %, under the 5 % margin; without g8: 1 - sqrt(0.02268 /
+    0.028) = 10 %, and the held-out delta chi2 at (1 cm)^2 from 3.2 to
+    (0.00032 + 0.005) / 1e-4 = 53.2. With 6 of 8 better, or none made worse,
+    it does not apply."""
+    gl = ["g%d" % i for i in range(1, 9)]
+    r = {"where": {"gliders": [{"glider": g, "points": 10} for g in gl]}, "dataset": {"tracking_sigma_m": 0.01},
+         "options": {"min_shrink": 0.05}}
+
+    def cand(per):
+        e = _stored("pitch_damping", True, 1 - (sum(10 * v * v for v in per) / 0.032) ** 0.5, 0.0, False)
+        e["cross_validation"].update(glider_holdout_rmse_m=dict(zip(gl, per)),
+                                     glider_baseline_holdout_rmse_m={g: 0.02 for g in gl})
+        e["cross_validation"]["delta_chi2"] = (0.032 - sum(10 * v * v for v in per)) / 1e-4
+        return e
+    e = cand([0.018] * 7 + [0.03])
+    assert e["shrink"] == pytest.approx(0.005, abs=1e-4) and e["cross_validation"]["delta_chi2"] == pytest.approx(3.2)
+    shrink, dchi2, worst = rr.loss_guard_figures(e, r)
+    assert (shrink, dchi2, worst) == (pytest.approx(0.1), pytest.approx(53.2), "g8")
+    f = rr.fields(e, r["options"], r)
+    assert not rr.built(f) and rr.loss_guard(f)
+    assert rr.loss_guard_figures(cand([0.018] * 6 + [0.03, 0.03]), r) is None  # 6 of 8: not nearly all
+    assert rr.loss_guard_figures(cand([0.018] * 8), r) is None  # none made worse: nothing to leave out
+    # the stored chi-square scale is used, not the noise, where it can be recovered
+    e["cross_validation"]["delta_chi2"] = 1.6  # a scale of 2e-4
+    assert rr.loss_guard_figures(e, r)[1] == pytest.approx(26.6)
+    # a candidate short of the margin on the rest too stays out
+    weak = cand([0.0199] * 7 + [0.021])
+    assert rr.loss_guard_figures(weak, r)[0] < 0.05 and not rr.loss_guard(rr.fields(weak, r["options"], r))
+
+
 def test_finished_cases_are_archived_by_commit_once_and_the_replay_reads_the_archive(tmp_path, capsys):
     out, arch = tmp_path / "out", tmp_path / "runs"
     _finished(out, "null-s1", "abc1234", [_stored("finite_span", False, 0.06, 40.0, False, collinearity=0.98)])
