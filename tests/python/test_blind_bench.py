@@ -924,6 +924,28 @@ def test_the_second_search_tally_counts_the_tables_unexplained_misses_searched_a
     assert pb.escalate_tally(got) == (2, 1, 2)
 
 
+def test_the_documented_second_search_figure_is_the_archives_count():
+    """The second search's figure in docs/diagnosis.md (its paragraph and
+    the top-1 row) is counted from the archived --escalate runs of the
+    top-1 table's `unexplained` misses (bench/diagnosis/runs-escalate), not
+    carried forward in prose."""
+    pb = _bench_module("plot_blind")
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    rows = pb.top1_rows(text)
+    esc = pb.escalate_runs(rows, rb.ARCHIVE_ESCALATE)
+    tried, named, hits = pb.escalate_tally(esc)
+    misses = sum(1 for w in esc if w["table"] == "unexplained")
+    pattern = (r"\*\*With the second search, archived: (\d+) of the table's (\d+) `unexplained` misses searched "
+               r"again, (\d+) named; (\d+) of (\d+) \((\d+) %\)\*\*")
+    stated = re.findall(pattern, re.sub(r"\s+", " ", text))
+    assert stated, "the second search's archived figure is missing"
+    want = (tried, misses, named, hits, len(rows), round(100 * hits / len(rows)))
+    for s in stated:
+        assert tuple(int(g) for g in s) == want
+    row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
+    assert re.search(pattern, row), "the top-1 row does not give the second search's archived figure"
+
+
 def test_camera_folds_measures_how_the_folds_agree(tmp_path):
     """bench/diagnosis/camera_folds.py: |mean| / s.d. of the camera's four
     fold values. Worked out by hand: rolls 1, 3, 1, 3 have mean 2 and
