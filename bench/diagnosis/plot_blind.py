@@ -93,6 +93,13 @@ def strengths(rows, archive_dir):
     return found, missing
 
 
+def true_shrink(name, r):
+    """The held-out shrink in percent of the true effect of case `name`
+    (its first word) in result r; NaN when r has no such candidate."""
+    e = next((x for x in r.get("effects", []) if x["name"] == name.split("-")[0]), None)
+    return 100.0 * e["shrink"] if e and e.get("shrink") is not None else float("nan")
+
+
 def wide_runs(rows, archive_dir):
     """The table's cases flown again at the issue's size (run_blind.py's
     CASE-g20, every training glider): for each table row, the archived runs
@@ -105,10 +112,8 @@ def wide_runs(rows, archive_dir):
     by_name, oracles, margins = collections.defaultdict(list), collections.defaultdict(dict), collections.defaultdict(dict)
     for name, p, r in rb.archived(archive_dir):
         if name.endswith(rb.WIDE):
-            e = next((x for x in r.get("effects", []) if x["name"] == name.split("-")[0]), None)
-            shrink = 100.0 * e["shrink"] if e and e.get("shrink") is not None else float("nan")
             commit = os.path.basename(os.path.dirname(p))
-            by_name[name[:-len(rb.WIDE)]].append((commit, r["verdict"], shrink))
+            by_name[name[:-len(rb.WIDE)]].append((commit, r["verdict"], true_shrink(name, r)))
             if r.get("oracle", {}).get("shrink") is not None:
                 oracles[name[:-len(rb.WIDE)]][commit] = 100.0 * r["oracle"]["shrink"]
                 margins[name[:-len(rb.WIDE)]][commit] = 100.0 * r.get("options", {}).get("min_shrink", 0.05)
@@ -166,9 +171,8 @@ def escalate_runs(rows, archive_dir):
         esc = r.get("escalation", {})
         if not esc.get("ran"):
             continue
-        e = next((x for x in r.get("effects", []) if x["name"] == name.split("-")[0]), None)
-        shrink = 100.0 * e["shrink"] if e and e.get("shrink") is not None else float("nan")
-        by_name[name].append((os.path.basename(os.path.dirname(p)), esc.get("first_verdict"), r["verdict"], shrink))
+        by_name[name].append((os.path.basename(os.path.dirname(p)), esc.get("first_verdict"), r["verdict"],
+                              true_shrink(name, r)))
     return [{"case": row["case"], "effect": row["effect"], "table": row["verdict"], "runs": by_name.get(row["case"], [])}
             for row in rows]
 

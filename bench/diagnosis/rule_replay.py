@@ -91,7 +91,7 @@ def loss_guard_figures(e, r, share=LOSS_GUARD_SHARE):
     tracking noise where that cannot be done)."""
     cv = e.get("cross_validation", {})
     per, per0 = cv.get("glider_holdout_rmse_m"), cv.get("glider_baseline_holdout_rmse_m")
-    pts = {g["glider"]: g["points"] for g in (r or {}).get("where", {}).get("gliders", [])}
+    pts = {g["glider"]: g["points"] for g in r.get("where", {}).get("gliders", [])}
     if not per or not per0 or not pts or set(per) != set(per0) or not set(per) <= set(pts):
         return None
     improved = sum(1 for g in per if per[g] < per0[g])
@@ -110,7 +110,7 @@ def loss_guard_figures(e, r, share=LOSS_GUARD_SHARE):
     d = cv.get("delta_chi2")
     scale = (sse0 - sse) / d if d and sse0 != sse and (sse0 - sse) / d > 0 else None
     if scale is None:
-        sigma = (r or {}).get("dataset", {}).get("tracking_sigma_m")
+        sigma = r.get("dataset", {}).get("tracking_sigma_m")
         if not sigma:
             return None
         scale = sigma * sigma

@@ -873,8 +873,7 @@ def _escalated(root, name, commit, first, verdict, shrink):
               verdict=verdict)
     d = json.loads((root / name / "diagnosis.json").read_text())
     d["options"]["escalate"] = True
-    d["escalation"] = {"ran": first == "unexplained", "first_verdict": first} if first == "unexplained" else \
-        {"ran": False}
+    d["escalation"] = {"ran": True, "first_verdict": first} if first == "unexplained" else {"ran": False}
     (root / name / "diagnosis.json").write_text(json.dumps(d))
 
 
