@@ -178,15 +178,50 @@ def escalate_runs(rows, archive_dir):
 
 
 def escalate_tally(esc):
-    """(searched again, named, table hits with them): of escalate_runs'
-    rows whose table verdict is `unexplained` (the only verdict after which
-    the second search runs), those with an archived second search, those
-    whose every such run names the true effect, and the table's hits plus
-    those named."""
-    tried = [w for w in esc if w["table"] == "unexplained" and w["runs"]]
+    """(misses, searched again, named, table hits with them): of
+    escalate_runs' rows, those whose table verdict is `unexplained` (the
+    only verdict after which the second search runs), those of them with an
+    archived second search, those whose every such run names the true
+    effect, and the table's hits plus those named."""
+    misses = [w for w in esc if w["table"] == "unexplained"]
+    tried = [w for w in misses if w["runs"]]
     named = sum(1 for w in tried if all(v == w["effect"] for _, _, v, _ in w["runs"]))
     hits = sum(1 for w in esc if w["table"] == w["effect"])
-    return len(tried), named, hits + named
+    return len(misses), len(tried), named, hits + named
+
+
+def against_first_baseline(esc, escalate_dir, archive_dir):
+    """The second search's shrink measured against the first search's
+    baseline instead of its own. The second search refits the baseline
+    with more starts, so its own baseline can be better or worse than the
+    first's, and its shrink (against its own) is then smaller or larger
+    than what the model it names gains over the model the default would
+    leave the user with. For each second-search run of escalate_runs' rows
+    (same order) whose default run at the same commit is archived in
+    archive_dir: a dict case, commit, verdict, own (the shrink in percent
+    against its own baseline), first (against the default run's baseline:
+    1 - the true effect's held-out RMSE / the default's baseline held-out
+    RMSE), the two baselines' held-out RMSE in metres (own_base,
+    first_base) and oracle (the default run's oracle shrink in percent,
+    against the same first baseline, so comparable with first; NaN when
+    the default ran without the oracle). Runs whose default run is not
+    archived are left out."""
+    default = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(archive_dir)}
+    second = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(escalate_dir)}
+    out = []
+    for w in esc:
+        for commit, _, verdict, own in w["runs"]:
+            d, r = default.get((w["case"], commit)), second.get((w["case"], commit))
+            e = next((x for x in r.get("effects", []) if x["name"] == w["effect"]), None) if r else None
+            if d is None or e is None or e.get("holdout_rmse_m") is None:
+                continue
+            first_base = d["baseline"]["holdout_rmse_m"]
+            out.append({"case": w["case"], "commit": commit, "verdict": verdict, "own": own,
+                        "first": 100.0 * (1.0 - e["holdout_rmse_m"] / first_base),
+                        "own_base": r["baseline"]["holdout_rmse_m"], "first_base": first_base,
+                        "oracle": 100.0 * d["oracle"]["shrink"] if d.get("oracle", {}).get("shrink") is not None
+                        else float("nan")})
+    return out
 
 
 def plot_top1(rows, path):
@@ -304,6 +339,9 @@ def main(argv=None):
     ap.add_argument("--archive-escalate", default=rb.ARCHIVE_ESCALATE)
     ap.add_argument("--out", default=os.path.join(ROOT, "docs", "img"))
     a = ap.parse_args(argv)
+    for d in (a.archive, a.archive_escalate):
+        if not os.path.isdir(d):
+            ap.error("no archive at %s (a directory of COMMIT/CASE.diagnosis.json.gz)" % d)
     with open(a.docs, encoding="utf-8") as f:
         rows = top1_rows(f.read())
     os.makedirs(a.out, exist_ok=True)
@@ -330,8 +368,7 @@ def main(argv=None):
           "run" % (rb.WIDE, nameable, named))
     print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
     esc = escalate_runs(rows, a.archive_escalate)
-    tried, named2, hits2 = escalate_tally(esc)
-    misses = sum(1 for w in esc if w["table"] == "unexplained")
+    misses, tried, named2, hits2 = escalate_tally(esc)
     print("with the second search (--escalate, archived in %s): %d of the table's %d `unexplained` misses searched "
           "again, %d named; %d of %d (%.0f %%)" % (os.path.relpath(a.archive_escalate, ROOT), tried, misses, named2,
                                                   hits2, len(rows), 100.0 * hits2 / len(rows)))
@@ -340,6 +377,12 @@ def main(argv=None):
             print("  %-22s %s: first search %s, second %s (%.1f %%)" % (w["case"], c, first, v, sh))
     print("  not searched again: %s" % (", ".join(w["case"] for w in esc if w["table"] == "unexplained" and
                                                   not w["runs"]) or "none"))
+    print("  against the first search's baseline (the default's run at the same commit, %s):" %
+          os.path.relpath(a.archive, ROOT))
+    for f in against_first_baseline(esc, a.archive_escalate, a.archive):
+        print("  %-22s %s: %-13s %.1f %% against its own baseline (%.2f cm), %.1f %% against the first's (%.2f cm; "
+              "oracle %.1f %%)" % (f["case"], f["commit"], f["verdict"], f["own"], 100 * f["own_base"], f["first"],
+                                  100 * f["first_base"], f["oracle"]))
     found, missing = strengths(rows, a.archive)
     p2 = os.path.join(a.out, "blind_strengths.png")
     plot_strengths(found, len(rows), p2)
