@@ -320,9 +320,14 @@ void bind_diagnose(py::module_& m) {
     }
     // first: a result of this dataset made before (its JSON text); with
     // stability it stands for the first run, so only the re-runs are made
-    // (the FreeCAD command's check after a named verdict).
+    // (the FreeCAD command's check after a named verdict); with
+    // theory_starts it is the first search whose `unexplained` this second
+    // search follows (the command's second search), which is then concluded
+    // as diagnose() with escalate concludes its own (conclude_second_search).
     if (kw.contains("first") && !kw["first"].is_none()) {
-      if (stability == 0) throw InputError("first is a result to check for stability; it needs stability 2 to 7");
+      if (stability == 0 && !o.theory_starts)
+        throw InputError("first is a result to check for stability (it needs stability 2 to 7) or the first search "
+                         "before a second one (it needs theory_starts)");
       json j;
       try {
         j = json::parse(kw["first"].cast<std::string>());
@@ -332,10 +337,64 @@ void bind_diagnose(py::module_& m) {
       if (!j.is_object() || j.value("format", "") != "pteromys-diagnosis/1" || !j.contains("verdict") ||
           !j["verdict"].is_string() || !j.contains("effects") || !j["effects"].is_array())
         throw InputError("first is not a diagnosis result (format pteromys-diagnosis/1 with a verdict and effects)");
-      if (j.contains("stability")) throw InputError("first already holds a stability check");
+      if (stability > 0 && j.contains("stability")) throw InputError("first already holds a stability check");
       const std::string path = j.contains("dataset") && j["dataset"].is_object() ? j["dataset"].value("path", "") : "";
       if (path != dataset)
         throw InputError("first is a result of another dataset ('" + path + "', not '" + dataset + "')");
+      const double first_s =
+          j.contains("timings") && j["timings"].is_object() ? j["timings"].value("total_s", 0.0) : 0.0;
+      if (stability == 0) {
+        if (j["verdict"] != "unexplained")
+          throw InputError("first must be an `unexplained` result for a second search (its verdict is '" +
+                           j["verdict"].get<std::string>() + "')");
+        if (j.contains("escalation") && j["escalation"].is_object() && j["escalation"].value("ran", false))
+          throw InputError("first already holds a second search");
+        const json* base = j.contains("baseline") && j["baseline"].is_object() && j["baseline"].contains("holdout_rmse_m")
+                               ? &j["baseline"]["holdout_rmse_m"] : nullptr;
+        if (!base || !base->is_number() || !(base->get<double>() > 0))
+          throw InputError("first has no baseline.holdout_rmse_m (a positive number) to measure the second search against");
+        std::string first_best;
+        double first_best_shrink = 0;
+        if (!j["effects"].empty() && j["effects"][0].is_object()) {
+          first_best = j["effects"][0].value("name", "");
+          const json& sh = j["effects"][0].contains("shrink") ? j["effects"][0]["shrink"] : json();
+          first_best_shrink = sh.is_number() ? sh.get<double>() : 0.0;
+        }
+        // The second search's "done" is held back until it is concluded.
+        std::optional<DiagnoseProgress> done;
+        DiagnoseCallback held;
+        if (cb)
+          held = [&](const DiagnoseProgress& p) {
+            if (p.stage == "done") done = p;
+            else cb(p);
+          };
+        DiagnoseResult r;
+        std::string fell;
+        {
+          py::gil_scoped_release nogil;
+          r = diagnose(d, o, held);
+          fell = conclude_second_search(r, "unexplained", first_best, first_best_shrink, first_s,
+                                        base->get<double>(), o);
+        }
+        json out;
+        if (fell.empty()) {
+          out = diagnosis_json(r, o);
+          out["dataset"]["path"] = dataset;
+          out["timings"]["first_search_s"] = first_s;
+        } else {
+          out = j;
+          out["escalation"] = diagnosis_json(r, o)["escalation"];
+          out["summary"] = fell + j.value("summary", std::string());
+          out["timings"]["second_search_s"] = r.seconds;
+        }
+        if (cb) {
+          DiagnoseProgress p = done ? *done : DiagnoseProgress{};
+          p.stage = "done";
+          p.message = out["verdict"].get<std::string>() + ": " + out["summary"].get<std::string>();
+          cb(p);
+        }
+        return out.dump();
+      }
       DiagnoseResult r;
       r.verdict = j["verdict"].get<std::string>();
       r.seconds = j.contains("timings") && j["timings"].is_object() ? j["timings"].value("total_s", 0.0) : 0.0;

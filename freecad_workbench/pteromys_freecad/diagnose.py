@@ -75,7 +75,12 @@ def second_search_options(result):
     ``escalate`` does the same after its first search; docs/diagnosis.md,
     "Second search"). Only with profiled starts, which those starts need;
     not after a withheld verdict (result key ``withheld``: a candidate closes
-    the gap, and the launches are in question, not the starts)."""
+    the gap, and the launches are in question, not the starts). The
+    options carry ``result`` as ``first``: the engine then concludes the
+    second search as its ``escalate`` does, keeping an effect only if it
+    also predicts the held-out gliders better than ``result``'s baseline by
+    the margin (else ``result`` stands, its summary saying what the second
+    search found), and records the first search in ``escalation``."""
     opts = result.get("options", {})
     if result.get("verdict") != "unexplained" or result.get("escalation", {}).get("ran"):
         return None
@@ -83,7 +88,7 @@ def second_search_options(result):
         return None
     if opts.get("theory_starts") or not opts.get("profile", True):
         return None
-    return {"theory_starts": True}
+    return {"theory_starts": True, "first": result}
 
 
 SECOND_SEARCH_QUESTION = (

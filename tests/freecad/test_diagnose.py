@@ -37,9 +37,11 @@ RESULT["steps"] = steps
 RESULT["text"] = pd.summary_text(result)
 RESULT["default_dir"] = pd.default_report_dir(%r)
 RESULT["has_command"] = hasattr(gui, "DiagnoseFlights") and hasattr(gui, "run_with_progress")
-RESULT["again"] = pd.second_search_options(result)
+again = pd.second_search_options(result)
+RESULT["again"] = None if again is None else dict(again, first=again["first"] is result)
 unexplained = dict(result, verdict="unexplained", escalation={"ran": False})
-RESULT["again_unexplained"] = pd.second_search_options(unexplained)
+again = pd.second_search_options(unexplained)
+RESULT["again_unexplained"] = dict(again, first=again["first"] is unexplained)
 RESULT["again_escalated"] = pd.second_search_options(dict(unexplained, escalation={"ran": True}))
 RESULT["again_theory"] = pd.second_search_options(dict(unexplained, options=dict(result["options"], theory_starts=True)))
 RESULT["again_fixed"] = pd.second_search_options(dict(unexplained, options=dict(result["options"], profile=False)))
@@ -66,8 +68,9 @@ RESULT["check_question"] = pd.stability_question(named)
     assert res["has_command"]
     # the second search is offered after an unexplained gap only, once, and
     # only where its theoretical-size starts can run (profiled starts)
-    assert res["again"] == ({"theory_starts": True} if res["verdict"] == "unexplained" else None)
-    assert res["again_unexplained"] == {"theory_starts": True}
+    # (with the result it follows as `first`, for the engine to conclude)
+    assert res["again"] == ({"theory_starts": True, "first": True} if res["verdict"] == "unexplained" else None)
+    assert res["again_unexplained"] == {"theory_starts": True, "first": True}
     assert res["again_escalated"] is None
     assert res["again_theory"] is None
     assert res["again_fixed"] is None

@@ -91,7 +91,8 @@ try:
         QtCore.QTimer.singleShot(500, click)
     yes, no = {}, {}
     answer(QtWidgets.QMessageBox.Yes, yes)
-    R["yes"] = dg.ask_second_search(unexplained)
+    again = dg.ask_second_search(unexplained)
+    R["yes"] = dict(again, first=again["first"] is unexplained) if again else again
     R["yes_dialog"] = yes
     answer(QtWidgets.QMessageBox.No, no)
     R["no"] = dg.ask_second_search(unexplained)
@@ -187,5 +188,5 @@ def test_an_unexplained_gap_asks_for_the_second_search(gui):
         assert d["title"] == "Pteromys: diagnose flights"
         assert d["buttons"] == ["No", "Yes"]
         assert d["default"] == "No"          # the slow search only when asked for
-    assert gui["yes"] == {"theory_starts": True}
+    assert gui["yes"] == {"theory_starts": True, "first": True}  # the result it follows, for the engine
     assert gui["no"] is None

@@ -101,7 +101,16 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     before with the same options (the dict this function returned); it
     stands for the first run, so only the re-runs are made, and it is
     returned with its stability check added (what the FreeCAD command
-    does when asked to check a verdict after the diagnosis).
+    does when asked to check a verdict after the diagnosis). With
+    ``theory_starts`` instead: the `unexplained` result of a first search
+    (made without theoretical-size starts) that this second search
+    follows; the second search is then concluded as ``escalate``
+    concludes its own (what the FreeCAD command does when asked to search
+    again): its result, with ``escalation`` recording the first search,
+    unless the effect it names predicts the held-out gliders less than
+    ``min_shrink`` better than the first search's baseline, in which case
+    ``first`` is returned (`unexplained`), its ``escalation`` saying what
+    the second search found (``demoted``) and its summary why.
     ``progress(dict)`` gets keys stage, step, steps, elapsed_s, message.
     The engine runs without the GIL. Returns the result dict
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
