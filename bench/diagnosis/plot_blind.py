@@ -158,6 +158,29 @@ def wide_rule_tally(wide):
     return len(kept), sum(1 for w in kept if named_every_run(w))
 
 
+def wide_escalate_tally(wide, escalate_dir):
+    """The table's rule at the issue's size with the second search
+    (--escalate runs of CASE-g20 archived in escalate_dir): (nameable,
+    named, misses, searched again, named by it). nameable and named are
+    wide_rule_tally's; misses are the nameable cases not named in every
+    run whose every run not naming the true effect is `unexplained` (the
+    only verdict the second search follows); searched again those of them
+    with an archived -g20 second search (escalation.ran), named by it those
+    whose every such run names the true effect. With the second search the
+    count is named + named by it, of nameable."""
+    nameable, named = wide_rule_tally(wide)
+    under = set(wide_under_margin(wide))
+    esc = collections.defaultdict(list)
+    for name, _, r in rb.archived(escalate_dir):
+        if name.endswith(rb.WIDE) and r.get("escalation", {}).get("ran"):
+            esc[name[:-len(rb.WIDE)]].append(r["verdict"])
+    misses = [w for w in wide if w["runs"] and w["case"] not in under and not named_every_run(w) and
+              all(v == "unexplained" for _, v, _ in w["runs"] if v != w["effect"])]
+    searched = [w for w in misses if esc.get(w["case"])]
+    named2 = sum(1 for w in searched if all(v == w["effect"] for v in esc[w["case"]]))
+    return nameable, named, len(misses), len(searched), named2
+
+
 def escalate_runs(rows, archive_dir):
     """The table's cases diagnosed again with the second search
     (run_blind.py --diagnose-args="--escalate", archived apart in
@@ -197,15 +220,17 @@ def against_first_baseline(esc, escalate_dir, archive_dir):
     first's, and its shrink (against its own) is then smaller or larger
     than what the model it names gains over the model the default would
     leave the user with. For each second-search run of escalate_runs' rows
-    (same order) whose default run at the same commit is archived in
-    archive_dir: a dict case, commit, verdict, own (the shrink in percent
-    against its own baseline), first (against the default run's baseline:
-    1 - the true effect's held-out RMSE / the default's baseline held-out
-    RMSE), the two baselines' held-out RMSE in metres (own_base,
+    (same order): a dict case, commit, verdict, own (the shrink in percent
+    against its own baseline), first (against the first search's baseline:
+    1 - the true effect's held-out RMSE / that baseline's held-out RMSE,
+    taken from the run's own escalation.first_holdout_rmse_m, which
+    engines since f5a5c54 record, else from the default's run at the same
+    commit archived in archive_dir), the two baselines' held-out RMSE in metres (own_base,
     first_base) and oracle (the default run's oracle shrink in percent,
     against the same first baseline, so comparable with first; NaN when
-    the default ran without the oracle). Runs whose default run is not
-    archived are left out."""
+    the default ran without the oracle or is not archived). Runs with
+    neither a recorded first baseline nor an archived default run are left
+    out."""
     default = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(archive_dir)}
     second = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(escalate_dir)}
     out = []
@@ -213,9 +238,13 @@ def against_first_baseline(esc, escalate_dir, archive_dir):
         for commit, _, verdict, own in w["runs"]:
             d, r = default.get((w["case"], commit)), second.get((w["case"], commit))
             e = next((x for x in r.get("effects", []) if x["name"] == w["effect"]), None) if r else None
-            if d is None or e is None or e.get("holdout_rmse_m") is None:
+            # the run's own record of its first search (engines since
+            # f5a5c54), else the default's run at the same commit
+            first_base = (r or {}).get("escalation", {}).get("first_holdout_rmse_m") or \
+                (d["baseline"]["holdout_rmse_m"] if d else None)
+            if first_base is None or e is None or e.get("holdout_rmse_m") is None:
                 continue
-            first_base = d["baseline"]["holdout_rmse_m"]
+            d = d or {}
             out.append({"case": w["case"], "commit": commit, "verdict": verdict, "own": own,
                         "first": 100.0 * (1.0 - e["holdout_rmse_m"] / first_base),
                         "own_base": r["baseline"]["holdout_rmse_m"], "first_base": first_base,
@@ -367,6 +396,15 @@ def main(argv=None):
     print("  by the table's rule at %s (the flown cases less those under the margin): %d nameable, %d named in every "
           "run" % (rb.WIDE, nameable, named))
     print("  not flown at %s: %s" % (rb.WIDE, ", ".join(w["case"] for w in wide if not w["runs"]) or "none"))
+    nameable, named, wmiss, wtried, wnamed2 = wide_escalate_tally(wide, a.archive_escalate)
+    print("  with the second search at %s (archived in %s): %d of the %d `unexplained` misses by the table's rule "
+          "searched again, %d named; %d of %d (%.0f %%)" % (rb.WIDE, os.path.relpath(a.archive_escalate, ROOT), wtried,
+                                                         wmiss, wnamed2, named + wnamed2, nameable,
+                                                         100.0 * (named + wnamed2) / nameable if nameable else 0))
+    for name, p, r in rb.archived(a.archive_escalate):
+        if name.endswith(rb.WIDE) and r.get("escalation", {}).get("ran"):
+            print("    %-26s %s: second search %s (%.1f %%)" % (name, os.path.basename(os.path.dirname(p)),
+                                                                r["verdict"], true_shrink(name, r)))
     esc = escalate_runs(rows, a.archive_escalate)
     misses, tried, named2, hits2 = escalate_tally(esc)
     print("with the second search (--escalate, archived in %s): %d of the table's %d `unexplained` misses searched "

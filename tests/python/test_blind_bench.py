@@ -834,6 +834,37 @@ def test_the_tables_rule_at_20_gliders_leaves_out_the_cases_under_the_margin(tmp
     assert pb.wide_rule_tally(wide) == (3, 2)
 
 
+def test_the_second_search_at_20_gliders_counts_the_rules_unexplained_misses(tmp_path):
+    """wide_escalate_tally. Worked out by hand: at -g20 finite span s1 is
+    named (a hit), pitch damping s3 `unexplained` and searched again twice,
+    named both times; wind s4 `unexplained`, searched again, `unexplained`
+    still; finite span s5 `unexplained`, not searched again; the camera s6
+    named wrong (fuselage drag: not a miss the second search follows); the
+    camera s2 `unexplained` but its oracle under the margin (not nameable).
+    A second search of the eight-glider pitch damping s3 does not count at
+    -g20. So 5 nameable, 1 named; 3 misses, 2 searched again, 1 named by it."""
+    pb = _bench_module("plot_blind")
+    arch = _archive_wide_runs(tmp_path, [("aaa1111", "finite_span-1-s1-g20", 0.06, "finite_span"),
+                                         ("aaa1111", "camera-1-s2-g20", 0.042, "unexplained"),
+                                         ("aaa1111", "pitch_damping-1-s3-g20", 0.07, "unexplained"),
+                                         ("aaa1111", "wind-1-s4-g20", None, "unexplained"),
+                                         ("aaa1111", "finite_span-1-s5-g20", 0.08, "unexplained"),
+                                         ("aaa1111", "camera-1-s6-g20", 0.08, "fuselage_drag")])
+    esc = tmp_path / "runs-escalate"
+    for commit, name, verdict in (("aaa1111", "pitch_damping-1-s3-g20", "pitch_damping"),
+                                  ("bbb2222", "pitch_damping-1-s3-g20", "pitch_damping"),
+                                  ("aaa1111", "wind-1-s4-g20", "unexplained"),
+                                  ("aaa1111", "finite_span-1-s5", "finite_span")):
+        out = tmp_path / ("esc-" + commit + name)
+        _escalated(out, name, commit, "unexplained", verdict, 0.1)
+        rb.archive(str(out), str(tmp_path / "unused"), str(esc))
+    rows = [{"case": c, "effect": c.split("-")[0], "verdict": "none"}
+            for c in ("finite_span-1-s1", "camera-1-s2", "pitch_damping-1-s3", "wind-1-s4", "finite_span-1-s5",
+                      "camera-1-s6")]
+    wide = pb.wide_runs(rows, arch)
+    assert pb.wide_escalate_tally(wide, str(esc)) == (5, 1, 3, 2, 1)
+
+
 def test_the_documented_20_glider_tally_is_the_archives_count():
     """The 20-glider figure in docs/diagnosis.md's top-1 row is counted from
     the archived CASE-g20 runs of the top-1 table's cases (plot_blind's
@@ -968,6 +999,19 @@ def test_the_second_search_is_also_measured_against_the_first_searchs_baseline(t
     assert [f["first"] for f in got] == [pytest.approx(20.0), pytest.approx(-10.0)]
     assert [(f["own_base"], f["first_base"]) for f in got] == [(0.018, 0.020), (0.016, 0.015)]
     assert got[0]["oracle"] == pytest.approx(25.0) and math.isnan(got[1]["oracle"])
+    # a run that records its first search's baseline itself (engines since
+    # f5a5c54) needs no default run: wind s4, first 2.0 cm, the effect 1.5 cm
+    out = tmp_path / "esc-wind"
+    _escalated(out, "wind-1-s4", "ccc3333", "unexplained", "wind", 0.2)
+    _with_rmse(out, "wind-1-s4", 0.019, 0.015)
+    d = json.loads((out / "wind-1-s4" / "diagnosis.json").read_text())
+    d["escalation"]["first_holdout_rmse_m"] = 0.020
+    (out / "wind-1-s4" / "diagnosis.json").write_text(json.dumps(d))
+    rb.archive(str(out), str(arch), str(esc))
+    rows.append({"case": "wind-1-s4", "effect": "wind", "verdict": "unexplained"})
+    got = pb.against_first_baseline(pb.escalate_runs(rows, str(esc)), str(esc), str(arch))
+    assert got[-1]["case"] == "wind-1-s4" and got[-1]["first"] == pytest.approx(25.0)
+    assert got[-1]["first_base"] == 0.020 and math.isnan(got[-1]["oracle"])
 
 
 def test_the_documented_second_search_against_the_first_baseline_is_the_archives():
