@@ -225,18 +225,34 @@ def against_first_baseline(esc, escalate_dir, archive_dir):
     1 - the true effect's held-out RMSE / that baseline's held-out RMSE,
     taken from the run's own escalation.first_holdout_rmse_m, which
     engines since f5a5c54 record, else from the default's run at the same
-    commit archived in archive_dir), the two baselines' held-out RMSE in metres (own_base,
-    first_base) and oracle (the default run's oracle shrink in percent,
-    against the same first baseline, so comparable with first; NaN when
-    the default ran without the oracle or is not archived). Runs with
-    neither a recorded first baseline nor an archived default run are left
-    out."""
+    commit archived in archive_dir), the two baselines' held-out RMSE in
+    metres (own_base, first_base) and oracle (the default run's oracle
+    shrink in percent, against that run's baseline: the first search's
+    when the engine is deterministic, as on one thread; NaN when the
+    default ran without the oracle or is not archived). A run whose engine
+    demoted the true effect (escalation.demoted) gives only its recorded
+    shrink against the first baseline (own and own_base NaN); one that
+    demoted another effect, and runs with neither a recorded first
+    baseline nor an archived default run, are left out."""
     default = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(archive_dir)}
     second = {(name, os.path.basename(os.path.dirname(p))): r for name, p, r in rb.archived(escalate_dir)}
     out = []
     for w in esc:
         for commit, _, verdict, own in w["runs"]:
             d, r = default.get((w["case"], commit)), second.get((w["case"], commit))
+            if r is not None and r.get("escalation", {}).get("demoted"):
+                # the engine kept the first search's result (since
+                # f5a5c54): its effects are the first's, and the second
+                # search's figure is only the recorded shrink against the
+                # first baseline, of the effect it demoted
+                esc_r = r["escalation"]
+                if esc_r["demoted"] == w["effect"] and esc_r.get("shrink_against_first") is not None:
+                    out.append({"case": w["case"], "commit": commit, "verdict": verdict, "own": float("nan"),
+                                "first": 100.0 * esc_r["shrink_against_first"], "own_base": float("nan"),
+                                "first_base": esc_r["first_holdout_rmse_m"],
+                                "oracle": 100.0 * d["oracle"]["shrink"]
+                                if d and d.get("oracle", {}).get("shrink") is not None else float("nan")})
+                continue
             e = next((x for x in r.get("effects", []) if x["name"] == w["effect"]), None) if r else None
             # the run's own record of its first search (engines since
             # f5a5c54), else the default's run at the same commit
@@ -415,8 +431,8 @@ def main(argv=None):
             print("  %-22s %s: first search %s, second %s (%.1f %%)" % (w["case"], c, first, v, sh))
     print("  not searched again: %s" % (", ".join(w["case"] for w in esc if w["table"] == "unexplained" and
                                                   not w["runs"]) or "none"))
-    print("  against the first search's baseline (the default's run at the same commit, %s):" %
-          os.path.relpath(a.archive, ROOT))
+    print("  against the first search's baseline (recorded in the run, else the default's run at the same commit "
+          "in %s):" % os.path.relpath(a.archive, ROOT))
     for f in against_first_baseline(esc, a.archive_escalate, a.archive):
         print("  %-22s %s: %-13s %.1f %% against its own baseline (%.2f cm), %.1f %% against the first's (%.2f cm; "
               "oracle %.1f %%)" % (f["case"], f["commit"], f["verdict"], f["own"], 100 * f["own_base"], f["first"],

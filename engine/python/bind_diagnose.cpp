@@ -1,6 +1,7 @@
 // Bindings: the sim-to-real diagnosis (diagnose.hpp) and its candidate effects
 // (effects.hpp). The Python wrappers with keyword documentation are in
 // pteromys/diagnose.py.
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -353,6 +354,40 @@ void bind_diagnose(py::module_& m) {
                                ? &j["baseline"]["holdout_rmse_m"] : nullptr;
         if (!base || !base->is_number() || !(base->get<double>() > 0))
           throw InputError("first has no baseline.holdout_rmse_m (a positive number) to measure the second search against");
+        if (j.contains("summary") && !j["summary"].is_string()) throw InputError("first's summary is not text");
+        // The searches diagnose() with escalate would not follow: a
+        // withheld verdict (a candidate closes the gap; the launches are in
+        // question), a first search that already had theoretical-size
+        // starts, a second search without the profiled starts they need.
+        if (j.contains("withheld") && !j["withheld"].is_null())
+          throw InputError("first's verdict was withheld from a candidate that closes the gap (withheld): a second "
+                           "search does not follow it");
+        if (!o.profile) throw InputError("a second search needs profiled starts (profile)");
+        // Its baseline is comparable only if it was made as this search is,
+        // but for the theoretical-size starts.
+        if (!j.contains("options") || !j["options"].is_object())
+          throw InputError("first has no options to compare with this second search's");
+        if (j["options"].value("theory_starts", false))
+          throw InputError("first was itself made with theory_starts: it is not a first search");
+        const json here = diagnosis_options_json(o);
+        std::string differ;
+        for (const auto& [key, value] : here.items()) {
+          if (key == "theory_starts" || key == "escalate") continue;
+          const json there = j["options"].contains(key) ? j["options"][key] : json();
+          if (there != value)
+            differ += (differ.empty() ? "" : "; ") + key + " " + (there.is_null() ? "missing" : there.dump()) +
+                      " there, " + value.dump() + " here";
+        }
+        std::vector<std::string> names_here, names_there;
+        for (Effect E : o.effects) names_here.push_back(effect_name(E));
+        for (const auto& e : j["effects"])
+          if (e.is_object() && e.contains("name") && e["name"].is_string()) names_there.push_back(e["name"]);
+        std::sort(names_here.begin(), names_here.end());
+        std::sort(names_there.begin(), names_there.end());
+        if (names_here != names_there) differ += std::string(differ.empty() ? "" : "; ") + "other candidate effects";
+        if (!differ.empty())
+          throw InputError("first was made with other options than this second search (" + differ +
+                           "): its baseline cannot be compared with this search's");
         std::string first_best;
         double first_best_shrink = 0;
         if (!j["effects"].empty() && j["effects"][0].is_object()) {
@@ -380,13 +415,21 @@ void bind_diagnose(py::module_& m) {
         if (fell.empty()) {
           out = diagnosis_json(r, o);
           out["dataset"]["path"] = dataset;
-          out["timings"]["first_search_s"] = first_s;
         } else {
+          // the first result stands; its pointer to a second search is
+          // answered
+          std::string summary = j.value("summary", std::string());
+          const std::string hint = kSecondSearchHint;
+          if (const auto at = summary.find(hint); at != std::string::npos) summary.erase(at, hint.size());
           out = j;
           out["escalation"] = diagnosis_json(r, o)["escalation"];
-          out["summary"] = fell + j.value("summary", std::string());
-          out["timings"]["second_search_s"] = r.seconds;
+          out["summary"] = fell + summary;
+          if (!out.contains("timings") || !out["timings"].is_object()) out["timings"] = json::object();
         }
+        // both searches, as diagnose() with escalate times them
+        out["timings"]["first_search_s"] = first_s;
+        out["timings"]["second_search_s"] = r.seconds;
+        out["timings"]["total_s"] = first_s + r.seconds;
         if (cb) {
           DiagnoseProgress p = done ? *done : DiagnoseProgress{};
           p.stage = "done";

@@ -3127,6 +3127,11 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
 }
 }  // namespace
 
+const char* const kSecondSearchHint =
+    " A second search with every aerodynamic correction also started at its theoretical size "
+    "(--escalate; Python escalate=True) can still find an effect the step from strength 0 "
+    "misses; it takes several times as long.";
+
 DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const DiagnoseCallback& progress) {
   const auto t0 = Clock::now();
   // The second search needs profiled starts and is one with theory_starts.
@@ -3147,9 +3152,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
   // starting the aerodynamic corrections elsewhere does not bear on it.
   if (!may_escalate || res.verdict != "unexplained" || !res.withheld.empty()) {
     if (!o.escalate && can_escalate && res.verdict == "unexplained" && res.withheld.empty())
-      res.summary += " A second search with every aerodynamic correction also started at its theoretical size "
-                     "(--escalate; Python escalate=True) can still find an effect the step from strength 0 "
-                     "misses; it takes several times as long.";
+      res.summary += kSecondSearchHint;
     if (held) progress(*held);
     return res;
   }
@@ -3204,7 +3207,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     res.seconds = since(t0);
     res.timings["first_search_s"] = first_s;
     res.timings["second_search_s"] = second_s;
-    res.timings["total_s"] = res.seconds;
+    res.timings["total_s"] = res.seconds;  // both searches, as when the second's result stands
     if (progress) {
       DiagnoseProgress p = held2 ? *held2 : (held ? *held : DiagnoseProgress{});
       p.stage = "done";
@@ -3215,6 +3218,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     return res;
   }
   if (held2 && progress) progress(*held2);
+  res2.timings["second_search_s"] = res2.seconds;
   res2.seconds = since(t0);
   res2.timings["first_search_s"] = first_s;
   res2.timings["total_s"] = res2.seconds;
@@ -3274,6 +3278,60 @@ json nums_or_null(const std::vector<double>& v) {
   return out;
 }
 }  // namespace
+
+json diagnosis_options_json(const DiagnoseOptions& o) {
+  json j = {{"folds", o.folds},
+                  {"trim", o.trim},
+                  {"alpha", o.alpha},
+                  {"min_shrink", o.min_shrink},
+                  {"holdout_chi2_test", o.holdout_chi2_test},
+                  {"glider_guard", o.glider_guard},
+                  {"bound_guard", o.bound_guard},
+                  {"launch_withhold", o.launch_withhold},
+                  {"launch_withhold_dominance", o.launch_withhold_dominance},
+                  {"launch_rates_confirm", o.launch_rates_confirm},
+                  {"prefer_identifiable", o.prefer_identifiable},
+                  {"none_tolerance", o.none_tolerance},
+                  {"collinearity_limit", o.collinearity_limit},
+                  {"launch_window_s", o.launch_window_s},
+                  {"near_ground_m", o.near_ground_m},
+                  {"ground_y_m", o.sim.ground_y},
+                  {"dt_s", o.sim.dt},
+                  {"max_centres", o.fit.max_centres},
+                  {"insertion_tries", o.fit.insertion_tries},
+                  {"full_fit", o.full_fit},
+                  {"polish", o.polish},
+                  {"profile", o.profile},
+                  {"profile_min_gliders", o.profile_min_gliders},
+                  {"profiled_candidates", o.profiled_candidates},
+                  {"carry_steps", o.carry_steps},
+                  {"leader_start", o.leader_start},
+                  {"leader_reached", o.leader_reached},
+                  {"heldout_steps", o.heldout_steps},
+                  {"heldout_fold_start", o.heldout_fold_start},
+                  {"zeroed_reference", o.zeroed_reference},
+                  {"theory_starts", o.theory_starts},
+                  {"hold_theory", o.hold_theory},
+                  {"escalate", o.escalate},
+                  {"step_per_flight", o.step_per_flight},
+                  {"refit_unstepped", o.refit_unstepped},
+                  {"step_alpha", o.step_level()},
+                  {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
+                  {"second_effect", o.second_effect}};
+  // The plausible sizes in force (reported units; effects without a finite
+  // one are left out).
+  json lim = json::object();
+  for (Effect E : all_effects()) {
+    const auto& sp = effect_spec(E);
+    json par = json::object();
+    const auto limit = plausible_limits(E, o);
+    for (std::size_t i = 0; i < sp.parameters.size(); ++i)
+      if (std::isfinite(limit[i])) par[sp.parameters[i].name] = limit[i] * sp.parameters[i].to_report;
+    if (!par.empty()) lim[effect_name(E)] = par;
+  }
+  j["plausible"] = lim;
+  return j;
+}
 
 json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
   json j;
@@ -3427,56 +3485,7 @@ json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o) {
                                         "folds' gliders; each held-out flight's launch and its glider's trim fitted "
                                         "to its own points; RMSE over every held-out point"}};
   j["trim_deg"] = trims;
-  j["options"] = {{"folds", o.folds},
-                  {"trim", o.trim},
-                  {"alpha", o.alpha},
-                  {"min_shrink", o.min_shrink},
-                  {"holdout_chi2_test", o.holdout_chi2_test},
-                  {"glider_guard", o.glider_guard},
-                  {"bound_guard", o.bound_guard},
-                  {"launch_withhold", o.launch_withhold},
-                  {"launch_withhold_dominance", o.launch_withhold_dominance},
-                  {"launch_rates_confirm", o.launch_rates_confirm},
-                  {"prefer_identifiable", o.prefer_identifiable},
-                  {"none_tolerance", o.none_tolerance},
-                  {"collinearity_limit", o.collinearity_limit},
-                  {"launch_window_s", o.launch_window_s},
-                  {"near_ground_m", o.near_ground_m},
-                  {"ground_y_m", o.sim.ground_y},
-                  {"dt_s", o.sim.dt},
-                  {"max_centres", o.fit.max_centres},
-                  {"insertion_tries", o.fit.insertion_tries},
-                  {"full_fit", o.full_fit},
-                  {"polish", o.polish},
-                  {"profile", o.profile},
-                  {"profile_min_gliders", o.profile_min_gliders},
-                  {"profiled_candidates", o.profiled_candidates},
-                  {"carry_steps", o.carry_steps},
-                  {"leader_start", o.leader_start},
-                  {"leader_reached", o.leader_reached},
-                  {"heldout_steps", o.heldout_steps},
-                  {"heldout_fold_start", o.heldout_fold_start},
-                  {"zeroed_reference", o.zeroed_reference},
-                  {"theory_starts", o.theory_starts},
-                  {"hold_theory", o.hold_theory},
-                  {"escalate", o.escalate},
-                  {"step_per_flight", o.step_per_flight},
-                  {"refit_unstepped", o.refit_unstepped},
-                  {"step_alpha", o.step_level()},
-                  {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
-                  {"second_effect", o.second_effect}};
-  // The plausible sizes in force (reported units; effects without a finite
-  // one are left out).
-  json lim = json::object();
-  for (Effect E : all_effects()) {
-    const auto& sp = effect_spec(E);
-    json par = json::object();
-    const auto limit = plausible_limits(E, o);
-    for (std::size_t i = 0; i < sp.parameters.size(); ++i)
-      if (std::isfinite(limit[i])) par[sp.parameters[i].name] = limit[i] * sp.parameters[i].to_report;
-    if (!par.empty()) lim[effect_name(E)] = par;
-  }
-  j["options"]["plausible"] = lim;
+  j["options"] = diagnosis_options_json(o);
   j["escalation"] = {{"ran", r.escalation.ran}};
   if (r.escalation.ran) {
     j["escalation"]["first_verdict"] = r.escalation.first_verdict;

@@ -1012,6 +1012,20 @@ def test_the_second_search_is_also_measured_against_the_first_searchs_baseline(t
     got = pb.against_first_baseline(pb.escalate_runs(rows, str(esc)), str(esc), str(arch))
     assert got[-1]["case"] == "wind-1-s4" and got[-1]["first"] == pytest.approx(25.0)
     assert got[-1]["first_base"] == 0.020 and math.isnan(got[-1]["oracle"])
+    # a run whose engine demoted the true effect keeps the first search's
+    # result: only its recorded shrink against the first baseline counts
+    # (3 %), not the first search's effects (here 0.0199 of 2.0 cm, 0.5 %)
+    out = tmp_path / "esc-demoted"
+    _escalated(out, "camera-1-s5", "ccc3333", "unexplained", "unexplained", 0.005)
+    _with_rmse(out, "camera-1-s5", 0.020, 0.0199)
+    d = json.loads((out / "camera-1-s5" / "diagnosis.json").read_text())
+    d["escalation"].update(first_holdout_rmse_m=0.020, shrink_against_first=0.03, demoted="camera")
+    (out / "camera-1-s5" / "diagnosis.json").write_text(json.dumps(d))
+    rb.archive(str(out), str(arch), str(esc))
+    rows.append({"case": "camera-1-s5", "effect": "camera", "verdict": "unexplained"})
+    got = pb.against_first_baseline(pb.escalate_runs(rows, str(esc)), str(esc), str(arch))
+    assert got[-1]["case"] == "camera-1-s5" and got[-1]["first"] == pytest.approx(3.0)
+    assert math.isnan(got[-1]["own"]) and got[-1]["first_base"] == 0.020
 
 
 def test_the_documented_second_search_against_the_first_baseline_is_the_archives():

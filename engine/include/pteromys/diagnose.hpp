@@ -684,6 +684,11 @@ std::string conclude_second_search(DiagnoseResult& second, const std::string& fi
                                    const std::string& first_best, double first_best_shrink, double first_seconds,
                                    double first_holdout_rmse_m, const DiagnoseOptions& o);
 
+/// The sentence an `unexplained` summary ends with when the second search
+/// did not run though it could (it points to --escalate); a caller that
+/// concludes a second search after such a result removes it.
+extern const char* const kSecondSearchHint;
+
 /// The summary's sentence on one glider that carries most of the held-out
 /// excess over the noise (at least half of `where["all"]["excess_m2"]`, from
 /// `where["gliders"]`: glider, rmse_m, excess_m2, chi2_ratio) and that no
@@ -935,6 +940,8 @@ void add_stability_json(nlohmann::json& j, const StabilityCheck& s);
 /// significant}], verdict) plus summary, where, effects' parameters and
 /// tests, folds, report data and timings.
 nlohmann::json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o);
+/// The result's "options" object (diagnosis_json's): every option in force.
+nlohmann::json diagnosis_options_json(const DiagnoseOptions& o);
 
 /// Where the gap lies (docs/diagnosis.md): the residuals of `flights`
 /// (outcomes of one model, e.g. the baseline's held-out flights) by phase,
