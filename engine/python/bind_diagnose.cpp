@@ -348,7 +348,8 @@ void bind_diagnose(py::module_& m) {
         if (j["verdict"] != "unexplained")
           throw InputError("first must be an `unexplained` result for a second search (its verdict is '" +
                            j["verdict"].get<std::string>() + "')");
-        if (j.contains("escalation") && j["escalation"].is_object() && j["escalation"].value("ran", false))
+        if (j.contains("escalation") && j["escalation"].is_object() && j["escalation"].contains("ran") &&
+            j["escalation"]["ran"] != false)
           throw InputError("first already holds a second search");
         const json* base = j.contains("baseline") && j["baseline"].is_object() && j["baseline"].contains("holdout_rmse_m")
                                ? &j["baseline"]["holdout_rmse_m"] : nullptr;
@@ -441,6 +442,11 @@ void bind_diagnose(py::module_& m) {
       DiagnoseResult r;
       r.verdict = j["verdict"].get<std::string>();
       r.seconds = j.contains("timings") && j["timings"].is_object() ? j["timings"].value("total_s", 0.0) : 0.0;
+      // a result of a second search is re-run with both searches
+      // (stability_rerun_options)
+      r.escalation.ran = j.contains("escalation") && j["escalation"].is_object() &&
+                         j["escalation"].contains("ran") && j["escalation"]["ran"].is_boolean() &&
+                         j["escalation"]["ran"].get<bool>();
       for (const auto& e : j["effects"]) {
         if (!e.is_object() || !e.contains("name") || !e.contains("shrink")) continue;
         EffectResult er;

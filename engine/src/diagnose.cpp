@@ -3201,13 +3201,7 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // The named effect does not beat the first search's baseline by the
     // margin: the first search's result, `unexplained`, stands, with what
     // the second search found said in its summary.
-    const double second_s = res2.seconds;
-    res.escalation = res2.escalation;
-    res.summary = fell + res.summary;
-    res.seconds = since(t0);
-    res.timings["first_search_s"] = first_s;
-    res.timings["second_search_s"] = second_s;
-    res.timings["total_s"] = res.seconds;  // both searches, as when the second's result stands
+    first_result_stands(res, res2, fell, first_s, since(t0));
     if (progress) {
       DiagnoseProgress p = held2 ? *held2 : (held ? *held : DiagnoseProgress{});
       p.stage = "done";
@@ -3217,12 +3211,34 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     }
     return res;
   }
-  if (held2 && progress) progress(*held2);
+  if (held2 && progress) {
+    // the second search's own "done" carried its summary before the
+    // conclusion prefixed it
+    DiagnoseProgress p = *held2;
+    p.elapsed_s = since(t0);
+    p.message = res2.verdict + ": " + res2.summary;
+    progress(p);
+  }
   res2.timings["second_search_s"] = res2.seconds;
   res2.seconds = since(t0);
   res2.timings["first_search_s"] = first_s;
   res2.timings["total_s"] = res2.seconds;
   return res2;
+}
+
+void first_result_stands(DiagnoseResult& first, const DiagnoseResult& second, const std::string& fell,
+                         double first_s, double total_s) {
+  if (fell.empty()) throw std::logic_error("first_result_stands: no sentence saying why the first result stands");
+  first.escalation = second.escalation;
+  std::string summary = first.summary;
+  if (const auto at = summary.find(kSecondSearchHint); at != std::string::npos)
+    summary.erase(at, std::char_traits<char>::length(kSecondSearchHint));
+  first.summary = fell + summary;
+  first.seconds = total_s;
+  if (!first.timings.is_object()) first.timings = nlohmann::json::object();
+  first.timings["first_search_s"] = first_s;
+  first.timings["second_search_s"] = second.seconds;
+  first.timings["total_s"] = total_s;  // both searches, as when the second's result stands
 }
 
 std::string conclude_second_search(DiagnoseResult& second, const std::string& first_verdict,
@@ -3518,14 +3534,25 @@ double shrink_of(const DiagnoseResult& r, const std::string& name) {
 }
 }  // namespace
 
+DiagnoseOptions stability_rerun_options(const DiagnoseOptions& o, const DiagnoseResult& first, double factor) {
+  if (!(factor > 0) || !std::isfinite(factor))
+    throw InputError("a stability re-run's step factor must be a positive number, not " + fmt(factor, 3));
+  DiagnoseOptions ok = o;
+  ok.sim.dt = o.sim.dt * factor;
+  if (first.escalation.ran) {
+    ok.theory_starts = false;
+    ok.escalate = true;
+  }
+  return ok;
+}
+
 StabilityCheck check_stability(const Dataset& d, const DiagnoseOptions& o, const DiagnoseResult& first, int runs,
                                const DiagnoseCallback& progress) {
   const auto factors = stability_factors(runs);
   StabilityCheck out;
   out.runs.push_back({o.sim.dt, first.verdict, shrink_of(first, first.verdict), first.seconds});
   for (std::size_t k = 1; k < factors.size(); ++k) {
-    DiagnoseOptions ok = o;
-    ok.sim.dt = o.sim.dt * factors[k];
+    const DiagnoseOptions ok = stability_rerun_options(o, first, factors[k]);
     const std::string head = "stability check " + std::to_string(k) + "/" + std::to_string(factors.size() - 1) +
                              " (step " + ms(ok.sim.dt) + "): ";
     DiagnoseCallback cb;
@@ -3548,7 +3575,8 @@ StabilityCheck check_stability(const Dataset& d, const DiagnoseOptions& o, const
   std::string steps;
   for (std::size_t k = 1; k < out.runs.size(); ++k) steps += (k > 1 ? ", " : "") + ms(out.runs[k].dt_s);
   const std::string n = std::to_string(out.runs.size());
-  out.sentence = "Re-run with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
+  out.sentence = std::string(first.escalation.ran ? "Re-run, both searches each time," : "Re-run") +
+                 " with the simulation step changed slightly (" + steps + " for " + ms(o.sim.dt) +
                  "), the verdict was " + first.verdict;
   if (out.stable) {
     out.sentence += " in all " + n + " runs.";

@@ -2295,6 +2295,55 @@ TEST(Diagnose, TheSecondSearchsEffectMustAlsoBeatTheFirstSearchsBaseline) {
   }
 }
 
+// When the second search's effect falls under the margin against the first
+// search's baseline, the first result stands (first_result_stands, what
+// diagnose() with --escalate returns then): its verdict, effects and
+// baseline unchanged, the second search's escalation record (the demoted
+// effect), the sentence before its summary and the pointer to a second
+// search gone from it, timed over both searches.
+TEST(Diagnose, WhenTheSecondSearchsEffectFallsTheFirstResultStands) {
+  DiagnoseOptions o;
+  o.min_shrink = 0.05;
+  DiagnoseResult first;
+  first.verdict = "unexplained";
+  first.holdout_rmse_m = 0.0162;
+  first.summary = std::string("The gap stays.") + kSecondSearchHint;
+  first.seconds = 400;
+  first.timings = {{"folds_s", 300.0}, {"total_s", 400.0}};
+  EffectResult a;
+  a.name = "added_mass";
+  a.holdout_rmse_m = 0.0160;
+  first.effects = {a};
+  DiagnoseResult second;
+  second.verdict = "pitch_damping";
+  second.holdout_rmse_m = 0.0188;
+  second.seconds = 900;
+  EffectResult e;
+  e.name = "pitch_damping";
+  e.holdout_rmse_m = 0.0158;
+  e.shrink = 1 - 0.0158 / 0.0188;
+  second.effects = {e};
+  const std::string fell = conclude_second_search(second, "unexplained", "added_mass", 0.01, 400, 0.0162, o);
+  ASSERT_FALSE(fell.empty());
+  first_result_stands(first, second, fell, 400, 1305);
+  EXPECT_EQ(first.verdict, "unexplained");
+  ASSERT_EQ(first.effects.size(), 1u);
+  EXPECT_EQ(first.effects[0].name, "added_mass");
+  EXPECT_EQ(first.holdout_rmse_m, 0.0162);
+  EXPECT_TRUE(first.escalation.ran);
+  EXPECT_EQ(first.escalation.demoted, "pitch_damping");
+  EXPECT_EQ(first.escalation.first_best, "added_mass");
+  EXPECT_NEAR(first.escalation.shrink_against_first, 1 - 1.58 / 1.62, 1e-12);
+  EXPECT_EQ(first.summary, fell + "The gap stays.");
+  EXPECT_EQ(first.summary.find("--escalate"), std::string::npos);
+  EXPECT_EQ(first.seconds, 1305);
+  EXPECT_EQ(first.timings.at("first_search_s").get<double>(), 400);
+  EXPECT_EQ(first.timings.at("second_search_s").get<double>(), 900);
+  EXPECT_EQ(first.timings.at("total_s").get<double>(), 1305);
+  EXPECT_EQ(first.timings.at("folds_s").get<double>(), 300);  // the first search's own stay
+  EXPECT_THROW(first_result_stands(first, second, "", 400, 1305), std::logic_error);
+}
+
 // The second search (DiagnoseOptions::escalate): flights made with the
 // finite-span correction at strength 1; with no candidate refitted from its
 // linearised step and no steps carried into the folds, the first search
@@ -2331,6 +2380,10 @@ TEST(Diagnose, AnUnexplainedGapIsSearchedAgainFromTheoreticalSizes) {
   }
   EXPECT_EQ(done, 1);
   EXPECT_EQ(lines.back().stage, "done");
+  // the final report carries the concluded summary (with its "Searched
+  // from the baseline..." opening), timed over both searches
+  EXPECT_EQ(lines.back().message, r.verdict + ": " + r.summary);
+  EXPECT_GE(lines.back().elapsed_s, r.timings.at("first_search_s").get<double>());
   EXPECT_GE(second, 4);
   EXPECT_NE(r.summary.find("theoretical sizes"), std::string::npos) << r.summary;
   for (const auto& e : r.effects)
@@ -2378,4 +2431,41 @@ TEST(Diagnose, StabilityChecksStepFivePercentEitherWayInTurn) {
   EXPECT_THROW(stability_factors(1), InputError);
   EXPECT_THROW(stability_factors(8), InputError);
   EXPECT_THROW(stability_factors(0), InputError);
+}
+
+// A stability re-run of a result that came from a second search makes both
+// searches again, so its verdict meets the test against its own first
+// search's baseline; any other result is re-run with its own options, only
+// the step changed.
+TEST(Diagnose, AStabilityReRunOfASecondSearchsResultSearchesTwiceAgain) {
+  DiagnoseOptions o;
+  o.sim.dt = 0.002;
+  DiagnoseResult plain;
+  plain.verdict = "camera";
+  const DiagnoseOptions a = stability_rerun_options(o, plain, 0.95);
+  EXPECT_DOUBLE_EQ(a.sim.dt, 0.0019);
+  EXPECT_FALSE(a.escalate);
+  EXPECT_FALSE(a.theory_starts);
+  // the FreeCAD command's second search: theory_starts with a first result
+  DiagnoseOptions t = o;
+  t.theory_starts = true;
+  DiagnoseResult second = plain;
+  second.escalation.ran = true;
+  const DiagnoseOptions b = stability_rerun_options(t, second, 1.05);
+  EXPECT_DOUBLE_EQ(b.sim.dt, 0.0021);
+  EXPECT_TRUE(b.escalate);
+  EXPECT_FALSE(b.theory_starts);
+  // theory_starts alone (no first search recorded) stays as it was asked
+  const DiagnoseOptions c = stability_rerun_options(t, plain, 1.05);
+  EXPECT_TRUE(c.theory_starts);
+  EXPECT_FALSE(c.escalate);
+  // --escalate: unchanged but for the step
+  DiagnoseOptions e = o;
+  e.escalate = true;
+  const DiagnoseOptions d = stability_rerun_options(e, second, 0.9);
+  EXPECT_TRUE(d.escalate);
+  EXPECT_FALSE(d.theory_starts);
+  EXPECT_DOUBLE_EQ(d.sim.dt, 0.0018);
+  EXPECT_THROW(stability_rerun_options(o, plain, 0.0), InputError);
+  EXPECT_THROW(stability_rerun_options(o, plain, std::nan("")), InputError);
 }

@@ -23,7 +23,22 @@ def camera_first(tmp_path_factory):
     return ds, load(out)
 
 
-def test_a_second_search_after_a_first_result_is_concluded_against_its_baseline(tmp_path, camera_first):
+@pytest.fixture(scope="module")
+def kept_second(camera_first):
+    """The second search after the fixture's result taken as an
+    `unexplained` first search (what the FreeCAD command runs), and its
+    progress (stage, message)."""
+    import pteromys
+    ds, plain = camera_first
+    first = dict(plain, verdict="unexplained", escalation={"ran": False})
+    msgs = []
+    k = pteromys.diagnose(str(ds), max_centres=2, folds=3, threads=2, theory_starts=True, first=first,
+                          progress=lambda p: msgs.append((p["stage"], p["message"])))
+    return k, msgs
+
+
+def test_a_second_search_after_a_first_result_is_concluded_against_its_baseline(tmp_path, camera_first,
+                                                                                 kept_second):
     """theory_starts with first= (the FreeCAD command's second search after
     an `unexplained` first search): the second search is the plain
     --theory-starts diagnosis (an independent CLI run), concluded as
@@ -47,9 +62,7 @@ def test_a_second_search_after_a_first_result_is_concluded_against_its_baseline(
     first = dict(plain, verdict="unexplained", escalation={"ran": False})
     base = plain["baseline"]["holdout_rmse_m"]
     assert 1 - eff / base > 0.05  # so it stands
-    msgs = []
-    k = pteromys.diagnose(str(ds), max_centres=2, folds=3, threads=2, theory_starts=True, first=first,
-                          progress=lambda p: msgs.append((p["stage"], p["message"])))
+    k, msgs = kept_second
     assert k["verdict"] == "camera" and k["effects"] == second["effects"]
     esc = k["escalation"]
     assert esc["ran"] is True and esc["first_verdict"] == "unexplained" and esc["demoted"] == ""
@@ -83,3 +96,32 @@ def test_a_second_search_after_a_first_result_is_concluded_against_its_baseline(
     assert k2["timings"]["second_search_s"] > 0 and k2["timings"]["first_search_s"] == plain["timings"]["total_s"]
     assert k2["timings"]["total_s"] == pytest.approx(k2["timings"]["first_search_s"] + k2["timings"]["second_search_s"])
     assert [m for m in msgs if m[0] == "done"] == [msgs[-1]] and msgs[-1][1].startswith("unexplained: Searched twice")
+
+
+def test_a_stability_check_after_a_second_search_searches_twice_again(camera_first, kept_second):
+    """The FreeCAD command's check of a verdict the second search named
+    (stability=2, first= that result, the second search's options): the
+    re-run makes both searches again, as --escalate does, so that its
+    verdict, too, has to beat its own first search's baseline; a re-run
+    from the theoretical sizes alone would skip that test. Seen in its
+    progress: every start from a theoretical size belongs to a second
+    search, and starts from strength 0 come first. Its sentence says so."""
+    import pteromys
+    ds, plain = camera_first
+    k, _ = kept_second
+    assert k["verdict"] == "camera" and k["escalation"]["ran"] is True
+    msgs = []
+    c = pteromys.diagnose(str(ds), max_centres=2, folds=3, threads=2, theory_starts=True, stability=2, first=k,
+                          progress=lambda p: msgs.append((p["stage"], p["message"])))
+    head = "stability check 1/1 (step 1.9 ms): "
+    assert msgs and all(m.startswith(head) for _, m in msgs), msgs[:3]
+    body = [m[len(head):] for stage, m in msgs if stage != "done"]
+    theory = [m for m in body if "from its theoretical size" in m or ("switched on" in m and "theoretical" in m)]
+    assert all(m.startswith("second search: ") for m in theory), theory[:3]
+    # the re-run's first search is a plain one: it starts from strength 0
+    assert not body[0].startswith("second search: ")
+    st = c["stability"]
+    assert [x["dt_s"] for x in st["runs"]] == pytest.approx([0.002, 0.0019])
+    assert st["runs"][0]["verdict"] == "camera"
+    assert st["sentence"].startswith("Re-run, both searches each time, with the simulation step changed slightly")
+    assert c["verdict"] == "camera" and c["effects"] == k["effects"] and c["escalation"] == k["escalation"]

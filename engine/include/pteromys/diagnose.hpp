@@ -684,6 +684,16 @@ std::string conclude_second_search(DiagnoseResult& second, const std::string& fi
                                    const std::string& first_best, double first_best_shrink, double first_seconds,
                                    double first_holdout_rmse_m, const DiagnoseOptions& o);
 
+/// The first search's result after a second search whose effect did not
+/// beat the first search's baseline (`fell`, conclude_second_search's
+/// sentence, not empty): `first` (its verdict `unexplained`) stands, with
+/// `second`'s escalation record (the demoted effect), `fell` before its
+/// summary (without kSecondSearchHint, whose question is answered), and its
+/// time and timings over both searches (first_search_s, second_search_s,
+/// total_s = total_s, as when the second result stands).
+void first_result_stands(DiagnoseResult& first, const DiagnoseResult& second, const std::string& fell,
+                         double first_s, double total_s);
+
 /// The sentence an `unexplained` summary ends with when the second search
 /// did not run though it could (it points to --escalate); a caller that
 /// concludes a second search after such a result removes it.
@@ -925,9 +935,19 @@ struct StabilityCheck {
 /// 1.1, ... (runs from 2 to 7).
 std::vector<double> stability_factors(int runs);
 
+/// The options of a stability re-run of `first` (made with `o`) at
+/// o.sim.dt * factor. When `first` came from a second search
+/// (first.escalation.ran: --escalate, or theory_starts after a first result
+/// as the FreeCAD command makes it), each re-run makes both searches again
+/// (escalate, theory_starts off), so that its verdict meets the same test
+/// against its own first search's baseline (conclude_second_search) as
+/// `first`'s did; a re-run from the theoretical sizes alone would skip it.
+DiagnoseOptions stability_rerun_options(const DiagnoseOptions& o, const DiagnoseResult& first, double factor);
+
 /// Re-runs diagnose(d, o) runs - 1 times with o.sim.dt scaled by
-/// stability_factors and compares each verdict with `first` (the result of
-/// diagnose(d, o)). Progress lines are those of each re-run, prefixed.
+/// stability_factors (options: stability_rerun_options) and compares each
+/// verdict with `first` (the result of diagnose(d, o)). Progress lines are
+/// those of each re-run, prefixed.
 StabilityCheck check_stability(const Dataset& d, const DiagnoseOptions& o, const DiagnoseResult& first, int runs,
                                const DiagnoseCallback& progress = {});
 
