@@ -111,11 +111,15 @@ def stability_options(result):
 
 
 def stability_question(result):
-    """The question the command asks after a named verdict."""
+    """The question the command asks after a named verdict. After a second
+    search each re-run makes both searches again (the engine's
+    stability_rerun_options), which the question says."""
+    both = (result.get("escalation") or {}).get("ran") is True
     return ("The verdict names %s.\n\n"
             "Check that it holds? The diagnosis is made twice more with the simulation step changed slightly "
-            "(1.9 and 2.1 ms for 2 ms); a verdict that changes turns on the search's path rather than on the "
-            "data and is marked tentative in the report. It takes about twice as long again." % result["verdict"])
+            "(1.9 and 2.1 ms for 2 ms)%s; a verdict that changes turns on the search's path rather than on the "
+            "data and is marked tentative in the report. It takes about twice as long again."
+            % (result["verdict"], ", each time with both searches, as the verdict was found" if both else ""))
 
 
 def summary_text(result):

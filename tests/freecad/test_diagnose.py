@@ -57,6 +57,7 @@ RESULT["check_none"] = pd.stability_options(dict(result, verdict="none"))
 RESULT["check_unexplained"] = pd.stability_options(unexplained)
 RESULT["check_checked"] = pd.stability_options(dict(named, stability={"runs": []}))
 RESULT["check_question"] = pd.stability_question(named)
+RESULT["check_question_second"] = pd.stability_question(dict(named, escalation={"ran": True}))
 ''' % (str(ds), str(ds)), timeout=600)
     assert res["index"] == str(report / "index.html")
     assert res["default_dir"] == str(report)
@@ -84,6 +85,9 @@ RESULT["check_question"] = pd.stability_question(named)
     assert res["check_named"] == 3 and res["check_named_first"]
     assert res["check_none"] is None and res["check_unexplained"] is None and res["check_checked"] is None
     assert res["check_question"].startswith("The verdict names wind.") and "1.9 and 2.1 ms" in res["check_question"]
+    # after a second search the re-runs make both searches, and it says so
+    assert "both searches" not in res["check_question"]
+    assert "(1.9 and 2.1 ms for 2 ms), each time with both searches" in res["check_question_second"]
     steps = res["steps"]
     assert len(steps) > 5 and steps[-1][2] == "done" and steps[-1][0] == steps[-1][1]
     assert not [p for p in os.listdir(report.parent) if p.startswith(".diagnosis-")]

@@ -896,6 +896,19 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
                       r"there, (\d+) %", re.sub(r"\s+", " ", short))
     assert brief, "'In short' does not give the 20-glider figure by the table's rule"
     assert tuple(int(g) for g in brief.groups()) == (named, nameable, round(100 * named / nameable))
+    # with the second search (archived --escalate runs of CASE-g20), by the
+    # same rule, in the row and in "In short"
+    nameable2, named1, misses, searched, named2 = pb.wide_escalate_tally(wide, rb.ARCHIVE_ESCALATE)
+    assert (nameable2, named1) == (nameable, named)
+    both = named + named2
+    esc = re.search(r"with the second search by the same rule, \*\*(\d+) of (\d+) \((\d+) %\)\*\* \((\d+) of the "
+                    r"(\d+) `unexplained` misses there searched again, (\d+) named", row)
+    assert esc, "the top-1 row does not give the 20-glider figure with the second search"
+    assert tuple(int(g) for g in esc.groups()) == (both, nameable, round(100 * both / nameable), searched, misses,
+                                                   named2)
+    brief2 = re.search(r"and with the second search (\d+) of (\d+), (\d+) %", re.sub(r"\s+", " ", short))
+    assert brief2, "'In short' does not give the 20-glider figure with the second search"
+    assert tuple(int(g) for g in brief2.groups()) == (both, nameable, round(100 * both / nameable))
 
 
 def _escalated(root, name, commit, first, verdict, shrink):
