@@ -55,6 +55,15 @@ py::dict values_to(const EffectValues& v) {
   return d;
 }
 
+// Whether a result given as `first` holds a second search (its
+// escalation.ran); a `ran` that is not true or false is refused by name.
+bool escalation_ran(const json& j) {
+  if (!j.contains("escalation") || !j["escalation"].is_object() || !j["escalation"].contains("ran")) return false;
+  const json& ran = j["escalation"]["ran"];
+  if (!ran.is_boolean()) throw InputError("first's escalation.ran is not true or false");
+  return ran.get<bool>();
+}
+
 json features_json(const GliderFeatures& f) {
   json w = json::array();
   for (const auto& x : f.wings)
@@ -348,8 +357,7 @@ void bind_diagnose(py::module_& m) {
         if (j["verdict"] != "unexplained")
           throw InputError("first must be an `unexplained` result for a second search (its verdict is '" +
                            j["verdict"].get<std::string>() + "')");
-        if (j.contains("escalation") && j["escalation"].is_object() && j["escalation"].contains("ran") &&
-            j["escalation"]["ran"] != false)
+        if (escalation_ran(j))
           throw InputError("first already holds a second search");
         const json* base = j.contains("baseline") && j["baseline"].is_object() && j["baseline"].contains("holdout_rmse_m")
                                ? &j["baseline"]["holdout_rmse_m"] : nullptr;
@@ -419,12 +427,9 @@ void bind_diagnose(py::module_& m) {
         } else {
           // the first result stands; its pointer to a second search is
           // answered
-          std::string summary = j.value("summary", std::string());
-          const std::string hint = kSecondSearchHint;
-          if (const auto at = summary.find(hint); at != std::string::npos) summary.erase(at, hint.size());
           out = j;
           out["escalation"] = diagnosis_json(r, o)["escalation"];
-          out["summary"] = fell + summary;
+          out["summary"] = summary_after_second_search(j.value("summary", std::string()), fell);
           if (!out.contains("timings") || !out["timings"].is_object()) out["timings"] = json::object();
         }
         // both searches, as diagnose() with escalate times them
@@ -444,9 +449,7 @@ void bind_diagnose(py::module_& m) {
       r.seconds = j.contains("timings") && j["timings"].is_object() ? j["timings"].value("total_s", 0.0) : 0.0;
       // a result of a second search is re-run with both searches
       // (stability_rerun_options)
-      r.escalation.ran = j.contains("escalation") && j["escalation"].is_object() &&
-                         j["escalation"].contains("ran") && j["escalation"]["ran"].is_boolean() &&
-                         j["escalation"]["ran"].get<bool>();
+      r.escalation.ran = escalation_ran(j);
       for (const auto& e : j["effects"]) {
         if (!e.is_object() || !e.contains("name") || !e.contains("shrink")) continue;
         EffectResult er;

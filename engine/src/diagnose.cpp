@@ -3202,43 +3202,42 @@ DiagnoseResult diagnose(const Dataset& d, const DiagnoseOptions& o, const Diagno
     // margin: the first search's result, `unexplained`, stands, with what
     // the second search found said in its summary.
     first_result_stands(res, res2, fell, first_s, since(t0));
-    if (progress) {
-      DiagnoseProgress p = held2 ? *held2 : (held ? *held : DiagnoseProgress{});
-      p.stage = "done";
-      p.elapsed_s = res.seconds;
-      p.message = res.verdict + ": " + res.summary;
-      progress(p);
-    }
-    return res;
+  } else {
+    res2.timings["second_search_s"] = res2.seconds;
+    res2.seconds = since(t0);
+    res2.timings["first_search_s"] = first_s;
+    res2.timings["total_s"] = res2.seconds;
   }
-  if (held2 && progress) {
-    // the second search's own "done" carried its summary before the
-    // conclusion prefixed it
-    DiagnoseProgress p = *held2;
-    p.elapsed_s = since(t0);
-    p.message = res2.verdict + ": " + res2.summary;
+  DiagnoseResult& out = fell.empty() ? res2 : res;
+  if (progress) {
+    // the one "done": the concluded verdict and summary (the second
+    // search's own carried its summary before the conclusion), both searches
+    DiagnoseProgress p = held2 ? *held2 : (held ? *held : DiagnoseProgress{});
+    p.stage = "done";
+    p.elapsed_s = out.seconds;
+    p.message = out.verdict + ": " + out.summary;
     progress(p);
   }
-  res2.timings["second_search_s"] = res2.seconds;
-  res2.seconds = since(t0);
-  res2.timings["first_search_s"] = first_s;
-  res2.timings["total_s"] = res2.seconds;
-  return res2;
+  return out;
 }
 
 void first_result_stands(DiagnoseResult& first, const DiagnoseResult& second, const std::string& fell,
                          double first_s, double total_s) {
   if (fell.empty()) throw std::logic_error("first_result_stands: no sentence saying why the first result stands");
   first.escalation = second.escalation;
-  std::string summary = first.summary;
-  if (const auto at = summary.find(kSecondSearchHint); at != std::string::npos)
-    summary.erase(at, std::char_traits<char>::length(kSecondSearchHint));
-  first.summary = fell + summary;
+  first.summary = summary_after_second_search(first.summary, fell);
   first.seconds = total_s;
   if (!first.timings.is_object()) first.timings = nlohmann::json::object();
   first.timings["first_search_s"] = first_s;
   first.timings["second_search_s"] = second.seconds;
   first.timings["total_s"] = total_s;  // both searches, as when the second's result stands
+}
+
+std::string summary_after_second_search(const std::string& first_summary, const std::string& fell) {
+  std::string summary = first_summary;
+  if (const auto at = summary.find(kSecondSearchHint); at != std::string::npos)
+    summary.erase(at, std::char_traits<char>::length(kSecondSearchHint));
+  return fell + summary;
 }
 
 std::string conclude_second_search(DiagnoseResult& second, const std::string& first_verdict,

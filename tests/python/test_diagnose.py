@@ -656,6 +656,9 @@ def test_python_call_refuses_a_first_result_it_cannot_check(tmp_path):
              (dict(theory_starts=True, first=ok), "must be an `unexplained` result"),
              (dict(theory_starts=True, first=dict(ok, verdict="unexplained", escalation={"ran": True})),
               "already holds a second search"),
+             (dict(theory_starts=True, first=dict(ok, verdict="unexplained", escalation={"ran": "yes"})),
+              "escalation.ran is not true or false"),
+             (dict(stability=2, first=dict(ok, escalation={"ran": 1})), "escalation.ran is not true or false"),
              (dict(theory_starts=True, first=dict(ok, verdict="unexplained")), "no baseline.holdout_rmse_m"),
              (dict(theory_starts=True, first=dict(ok, verdict="unexplained", baseline={"holdout_rmse_m": 0})),
               "no baseline.holdout_rmse_m")]

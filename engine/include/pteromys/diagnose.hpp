@@ -694,6 +694,12 @@ std::string conclude_second_search(DiagnoseResult& second, const std::string& fi
 void first_result_stands(DiagnoseResult& first, const DiagnoseResult& second, const std::string& fell,
                          double first_s, double total_s);
 
+/// The summary of a first result that stands after a second search: `fell`
+/// (conclude_second_search's sentence) before `first_summary`, whose
+/// pointer to a second search (kSecondSearchHint) is removed. Used by
+/// first_result_stands and by callers holding the first result as JSON.
+std::string summary_after_second_search(const std::string& first_summary, const std::string& fell);
+
 /// The sentence an `unexplained` summary ends with when the second search
 /// did not run though it could (it points to --escalate); a caller that
 /// concludes a second search after such a result removes it.
