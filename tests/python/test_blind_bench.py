@@ -901,14 +901,20 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     nameable2, named1, misses, searched, named2 = pb.wide_escalate_tally(wide, rb.ARCHIVE_ESCALATE)
     assert (nameable2, named1) == (nameable, named)
     both = named + named2
-    esc = re.search(r"with the second search by the same rule, \*\*(\d+) of (\d+) \((\d+) %\)\*\* \((\d+) of the "
-                    r"(\d+) `unexplained` misses there searched again, (\d+) named", row)
+    # to one decimal and set against the target, since a whole percent can
+    # round a count just under 90 % up to it (43 of 48 is 89.6 %)
+    pct = "%.1f" % (100 * both / nameable)
+    side = "just under the target" if 0.85 <= both / nameable < 0.9 else None
+    esc = re.search(r"with the second search by the same rule, \*\*(\d+) of (\d+) \(([\d.]+) %(?:, ([^)]*))?\)\*\* "
+                    r"\((\d+) of the (\d+) `unexplained` misses there searched again, (\d+) named", row)
     assert esc, "the top-1 row does not give the 20-glider figure with the second search"
-    assert tuple(int(g) for g in esc.groups()) == (both, nameable, round(100 * both / nameable), searched, misses,
-                                                   named2)
-    brief2 = re.search(r"and with the second search (\d+) of (\d+), (\d+) %", re.sub(r"\s+", " ", short))
+    g = esc.groups()
+    assert (int(g[0]), int(g[1]), g[2], g[3], int(g[4]), int(g[5]), int(g[6])) == (
+        both, nameable, pct, side, searched, misses, named2)
+    brief2 = re.search(r"and with the second search (\d+) of (\d+), ([\d.]+) %(?:, (just under the target))?",
+                       re.sub(r"\s+", " ", short))
     assert brief2, "'In short' does not give the 20-glider figure with the second search"
-    assert tuple(int(g) for g in brief2.groups()) == (both, nameable, round(100 * both / nameable))
+    assert (int(brief2.group(1)), int(brief2.group(2)), brief2.group(3), brief2.group(4)) == (both, nameable, pct, side)
 
 
 def _escalated(root, name, commit, first, verdict, shrink):
