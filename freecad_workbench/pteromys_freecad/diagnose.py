@@ -96,6 +96,44 @@ SECOND_SEARCH_QUESTION = (
     "Search again with every aerodynamic correction also started at its theoretical size? "
     "It can find an effect the first search misses, but takes several times as long.")
 
+# How much longer the second search took than the first on the blind
+# benchmark (docs/diagnosis.md, "Second search": 2.3-5.6 times).
+SECOND_SEARCH_FACTOR = (2.3, 5.6)
+
+
+def duration_text(seconds):
+    """A duration as a person reads it: "under a minute", "about 7 min",
+    "about 2 h 26 min"."""
+    if not (seconds >= 0) or seconds == float("inf"):
+        raise ValueError("a duration is a finite number of seconds, not %r" % (seconds,))
+    minutes = int(round(seconds / 60.0))
+    if minutes < 1:
+        return "under a minute"
+    if minutes < 60:
+        return "about %d min" % minutes
+    return "about %d h %02d min" % divmod(minutes, 60)
+
+
+def _seconds_taken(result):
+    """The diagnosis's own time (timings.total_s), or None when it has none."""
+    t = (result.get("timings") or {}).get("total_s")
+    return float(t) if isinstance(t, (int, float)) and not isinstance(t, bool) and t > 0 else None
+
+
+def second_search_question(result):
+    """The question the command asks after an `unexplained` first search:
+    SECOND_SEARCH_QUESTION, with what the second search should take when
+    the first search's time is known (SECOND_SEARCH_FACTOR times it), so a
+    person can decide whether to wait."""
+    s = _seconds_taken(result)
+    if s is None:
+        return SECOND_SEARCH_QUESTION
+    lo, hi = (duration_text(f * s) for f in SECOND_SEARCH_FACTOR)
+    if lo.startswith("about ") and hi.startswith("about "):
+        hi = hi[len("about "):]
+    span = lo if lo == "about " + hi else "%s to %s" % (lo, hi)
+    return SECOND_SEARCH_QUESTION + " This search took %s; expect the second to take %s." % (duration_text(s), span)
+
 
 def stability_options(result):
     """Options for checking a named verdict afterwards, or None: when
@@ -115,11 +153,17 @@ def stability_question(result):
     search each re-run makes both searches again (the engine's
     stability_rerun_options), which the question says."""
     both = (result.get("escalation") or {}).get("ran") is True
+    s = _seconds_taken(result)
+    # each re-run is one diagnosis like the first; after a second search a
+    # re-run whose first search names the effect makes no second, so "up to"
+    took = "" if s is None else " (this diagnosis took %s, so %s%s more)" % (
+        duration_text(s), "up to " if both else "", duration_text(2 * s))
     return ("The verdict names %s.\n\n"
             "Check that it holds? The diagnosis is made twice more with the simulation step changed slightly "
             "(1.9 and 2.1 ms for 2 ms)%s; a verdict that changes turns on the search's path rather than on the "
-            "data and is marked tentative in the report. It takes about twice as long again."
-            % (result["verdict"], ", each time with both searches, as the verdict was found" if both else ""))
+            "data and is marked tentative in the report. It takes %sabout twice as long again%s."
+            % (result["verdict"], ", each time with both searches, as the verdict was found" if both else "",
+               "up to " if both else "", took))
 
 
 def summary_text(result):

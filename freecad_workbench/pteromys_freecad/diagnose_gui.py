@@ -76,7 +76,7 @@ def ask_second_search(result):
     that search on Yes, None on No or when there is nothing to ask."""
     from . import diagnose as pd
     again = None if result is None else pd.second_search_options(result)
-    return again if again is not None and _yes(pd.SECOND_SEARCH_QUESTION) else None
+    return again if again is not None and _yes(pd.second_search_question(result)) else None
 
 
 def run_with_progress(dataset, report_dir=None, **options):

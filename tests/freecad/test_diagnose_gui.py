@@ -97,7 +97,7 @@ try:
     answer(QtWidgets.QMessageBox.No, no)
     R["no"] = dg.ask_second_search(unexplained)
     R["no_dialog"] = no
-    R["question"] = pd.SECOND_SEARCH_QUESTION
+    R["question"] = pd.second_search_question(unexplained)
     # the stability question after a named verdict (the run's, or the run
     # taken as naming wind), answered by clicking; Yes makes the re-runs
     # under the progress dialog and opens the report with the check
