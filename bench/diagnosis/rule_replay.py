@@ -38,8 +38,9 @@ import os
 import statistics
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_blind import ARCHIVE_SUFFIX, case_of  # noqa: E402  (the benchmark's case names and archive)
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from run_blind import ARCHIVE_SUFFIX, archived, case_of  # noqa: E402  (the benchmark's case names and archive)
 
 
 # The fits' ranges (engine/src/effects.cpp, docs/diagnosis.md "The bound
@@ -362,6 +363,80 @@ RULES = [("as built", built), ("held-out alone for collinear effects", heldout_f
          ("loss guard (7 of 8 gliders better: the shrink without the one made worst)", loss_guard)]
 
 
+def replayed_verdict(r, margin):
+    """The verdict a stored result would get with the held-out margin at
+    `margin`: of its candidates significant under the rule as built with
+    that margin (the glider guard recomputed with it too: the shrink
+    without the glider the gain rests on at least the margin, or three
+    quarters of the held-out gliders better), the one with the largest
+    held-out shrink; None when none is. An approximation of the engine's
+    verdict, which also weighs a second round, the launch withhold and
+    alternatives; margin_sweep reports how often it agrees with the stored
+    verdicts at the margin they were made with."""
+    best = None
+    for e in r.get("effects", []):
+        f = dict(fields(e, r.get("options", {}), r), margin=margin)
+        if f["guard_on"] and f["gliders"] > 0:
+            f["robust_pass"] = f["robust_shrink"] >= margin or 4 * f["improved"] >= 3 * f["gliders"]
+        if built(f) and (best is None or f["shrink"] > best[1]):
+            best = (f["name"], f["shrink"])
+    return best[0] if best else None
+
+
+def margin_sweep(rows, runs, margins, order=None):
+    """What another held-out margin would do to the top-1 count, replayed on
+    stored results. rows: the top-1 table's rows (plot_blind.top1_rows:
+    case, effect, oracle in percent, verdict, commit); runs: {case: {commit:
+    result}} of archived eight-glider runs (CASE-g20 and others are not
+    asked for). The table counts a case when its oracle closes at least the
+    margin, so a margin moves both sides of the rate. For each margin m, a
+    dict: table (nameable, named) over the table's rows whose run at the
+    row's commit is archived, the oracle from that run (the table's figure
+    when the run has none); outside (nameable, named) over the archived
+    single effects at strength 1 that are not in the table (their oracle was
+    under the table's margin) whose oracle reaches m, each at its latest
+    commit by `order` (commits oldest first; default: sorted names); nulls
+    (runs naming an effect, runs) over every archived null run; agree (the
+    table's archived rows whose replayed verdict at the table's margin,
+    0.05, names the true effect exactly when the table's does, of them)."""
+    rank = {c: i for i, c in enumerate(order or [])}
+    table = {row["case"] for row in rows}
+    out = []
+    for m in margins:
+        n = named = agree = counted = 0
+        for row in rows:
+            r = runs.get(row["case"], {}).get(row["commit"].split(",")[0].strip())
+            if r is None:
+                continue
+            o = (r.get("oracle") or {}).get("shrink")
+            o = row["oracle"] / 100 if o is None else o
+            hit = replayed_verdict(r, m) == row["effect"]
+            if o >= m:
+                n += 1
+                named += hit
+            counted += 1
+            agree += (replayed_verdict(r, 0.05) == row["effect"]) == (row["verdict"] == row["effect"])
+        on = onamed = 0
+        for name, by_commit in runs.items():
+            c = case_of(name)
+            if c is None or name in table or not c["truth"] or len(c["truth"]) != 1 or name.endswith("-g20"):
+                continue
+            if list(c["strength"].values()) != [1.0]:
+                continue
+            latest = max(by_commit, key=lambda k: (rank.get(k, -1), k))
+            r = by_commit[latest]
+            o = (r.get("oracle") or {}).get("shrink")
+            if o is None or o < m:
+                continue
+            on += 1
+            onamed += replayed_verdict(r, m) == c["truth"][0]
+        nulls = [r for name, by_commit in runs.items() if name.startswith("null-") for r in by_commit.values()]
+        out.append({"margin": m, "table": (n, named), "outside": (on, onamed),
+                    "nulls": (sum(1 for r in nulls if replayed_verdict(r, m)), len(nulls)),
+                    "agree": (agree, counted)})
+    return out
+
+
 def chi2_isf(p, dof):
     """The chi-square quantile exceeded with probability p, for 1 or 2
     degrees of freedom (the candidates' strengths, the camera's scale and
@@ -396,13 +471,64 @@ def screen_leaders(r):
     return by_gain["name"], by_fit["name"]
 
 
+def commit_order():
+    """The repository's commits, oldest first, by their 7-character names
+    (the archive's directory names); None outside a git checkout."""
+    import subprocess
+    g = subprocess.run(["git", "-C", HERE, "rev-list", "--reverse", "--abbrev-commit", "--abbrev=7", "HEAD"],
+                       capture_output=True, text=True)
+    return g.stdout.split() if g.returncode == 0 else None
+
+
+def archived_runs(archive_dir):
+    """{case: {commit: result}} of every run archived in archive_dir."""
+    runs = {}
+    for name, p, r in archived(archive_dir):
+        runs.setdefault(name, {})[os.path.basename(os.path.dirname(p))] = r
+    return runs
+
+
+def print_margin_sweep(args):
+    """rule_replay.py --margins: margin_sweep on the archive, printed."""
+    import plot_blind  # the table's rows, as its figures read them
+    try:
+        margins = [float(x) for x in args.margins.split(",")]
+    except ValueError:
+        sys.exit("--margins: a comma list of numbers, such as 0.05,0.03, not %r" % args.margins)
+    if not margins or any(not 0 < m < 1 for m in margins):
+        sys.exit("--margins: each margin is a share between 0 and 1 (0.05 is the default's 5 %%), not %r" % args.margins)
+    with open(args.docs, encoding="utf-8") as f:
+        rows = plot_blind.top1_rows(f.read())
+    runs = archived_runs(args.dirs[0])
+    if not runs:
+        sys.exit("no archived runs under %s" % args.dirs[0])
+    res = margin_sweep(rows, runs, margins, commit_order())
+    a, n = res[0]["agree"]
+    print("The top-1 count replayed at other held-out margins (%d of the table's %d cases archived at their commit; "
+          "the replayed verdict agrees with the table's on %d of them at 5 %%).\n" % (n, len(rows), a))
+    print("| margin | table: named of nameable | outside the table, nameable at this margin: named of them | "
+          "together | null runs naming an effect |")
+    print("|---|---|---|---|---|")
+    for s in res:
+        (tn, th), (on, oh), (fd, nn) = s["table"], s["outside"], s["nulls"]
+        print("| %.1f %% | %d of %d | %d of %d | %d of %d (%.1f %%) | %d of %d |" %
+              (100 * s["margin"], th, tn, oh, on, th + oh, tn + on, 100 * (th + oh) / max(1, tn + on), fd, nn))
+    return 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("dirs", nargs="+", help="directories holding case directories (searched recursively)")
     ap.add_argument("--plot-exemption", metavar="PNG",
                     help="also draw the launch withhold's exemption: each withheld (or exempted) effect's share of "
                          "the baseline's all-glider misfit against launch rotation's, with the factor's line")
+    ap.add_argument("--margins", metavar="M,M,...",
+                    help="instead: replay the top-1 count of docs/diagnosis.md's table (--docs) at these held-out "
+                         "margins on the archived runs of the first directory (margin_sweep)")
+    ap.add_argument("--docs", default=os.path.join(os.path.dirname(os.path.dirname(HERE)), "docs", "diagnosis.md"))
     args = ap.parse_args(argv)
+    if args.margins:
+        return print_margin_sweep(args)
     cases = []
     seen = set()
     for d in args.dirs:

@@ -333,6 +333,64 @@ def test_rule_replay_recomputes_the_bound_guard_from_stored_per_glider_figures(t
     assert "no longer another effect significant: pitch_damping-1-s7" in out
 
 
+def test_the_margin_sweep_moves_both_sides_of_the_top1_rate():
+    """rule_replay.margin_sweep, worked out by hand: a margin counts a case
+    as nameable when its oracle reaches it and as named when the true
+    effect is the best candidate significant with it, so lowering it both
+    names more and counts more."""
+    def run(effects, oracle=None):
+        r = {"effects": effects, "options": {"min_shrink": 0.05, "glider_guard": True}}
+        if oracle is not None:
+            r["oracle"] = {"shrink": oracle}
+        return r
+    rows = [{"case": "finite_span-1-s1", "effect": "finite_span", "oracle": 8.0, "verdict": "unexplained", "commit": "c1"},
+            {"case": "camera-1-s2", "effect": "camera", "oracle": 6.0, "verdict": "camera", "commit": "c1"},
+            {"case": "wind-1-s3", "effect": "wind", "oracle": 9.0, "verdict": "wind", "commit": "c9"}]  # not archived
+    runs = {
+        # 3 % with every test passed, 8 of 8 gliders: named at a margin of 2.5 %, not at 5 %
+        "finite_span-1-s1": {"c1": run([_stored("finite_span", True, 0.03, 40.0, False, robust=0.03, improved=8)],
+                                       oracle=0.08)},
+        "camera-1-s2": {"c1": run([_stored("camera", True, 0.06, 40.0, True, robust=0.06, improved=8)])},
+        # outside the table (its oracle 3 %): its latest run (c2) does not name it, the older would
+        "pitch_damping-1-s4": {"c1": run([_stored("pitch_damping", True, 0.04, 40.0, False, improved=8)], oracle=0.03),
+                               "c2": run([_stored("pitch_damping", True, 0.01, 40.0, False, improved=8)], oracle=0.03)},
+        "pitch_damping-2-s5": {"c2": run([_stored("pitch_damping", True, 0.09, 40.0, True, improved=8)], oracle=0.03)},
+        "finite_span-1-s6-g20": {"c2": run([_stored("finite_span", True, 0.09, 40.0, True, improved=8)], oracle=0.03)},
+        # a null whose wind closes 3 % with every test passed: named at 2.5 % only
+        "null-s7": {"c1": run([_stored("wind", True, 0.03, 40.0, False, robust=0.03, improved=8)])},
+    }
+    five, low = rr.margin_sweep(rows, runs, [0.05, 0.025], order=["c1", "c2"])
+    assert (five["table"], five["outside"], five["nulls"], five["agree"]) == ((2, 1), (0, 0), (0, 1), (2, 2))
+    assert (low["table"], low["outside"], low["nulls"]) == ((2, 2), (1, 0), (1, 1))
+    # the guard moves with the margin: 3 % resting on one glider (2 % without
+    # it) and 5 of 8 gliders better is not named at 2.5 %
+    runs["finite_span-1-s1"]["c1"] = run([_stored("finite_span", True, 0.03, 40.0, False, robust=0.02, improved=5)],
+                                         oracle=0.08)
+    assert rr.margin_sweep(rows, runs, [0.025], order=["c1", "c2"])[0]["table"] == (2, 1)
+    # the command line refuses a margin that is not a share, by name
+    for bad in ("abc", "0.05,5", "0"):
+        with pytest.raises(SystemExit) as e:
+            rr.main([rb.ARCHIVE, "--margins", bad])
+        assert "--margins" in str(e.value)
+
+
+def test_the_documented_margin_sweep_is_the_archives():
+    """The margin sweep's table in bench/diagnosis/blind_results.md is
+    recounted from the archive and docs/diagnosis.md's top-1 table."""
+    pb = _bench_module("plot_blind")
+    rows = pb.top1_rows(open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read())
+    text = open(os.path.join(ROOT, "bench", "diagnosis", "blind_results.md"), encoding="utf-8").read()
+    _, cells = _rows_after(text, "| margin | table: named of nameable |")
+    assert cells, "the margin sweep's table is missing"
+    margins = [float(c[0].rstrip(" %")) / 100 for c in cells]
+    res = rr.margin_sweep(rows, rr.archived_runs(rb.ARCHIVE), margins, rr.commit_order())
+    for c, s in zip(cells, res):
+        (tn, th), (on, oh), (fd, nn) = s["table"], s["outside"], s["nulls"]
+        assert c[1:] == ["%d of %d" % (th, tn), "%d of %d" % (oh, on),
+                         "%d of %d (%.1f %%)" % (th + oh, tn + on, 100 * (th + oh) / (tn + on)), "%d of %d" % (fd, nn)]
+    assert "agrees with the table's verdict on %d of its %d" % res[0]["agree"] in re.sub(r"\s+", " ", text)
+
+
 def test_rule_replay_names_the_screens_leader_by_gain_and_by_fit(tmp_path, capsys):
     # Worked out by hand, alpha 0.01 over 4 candidates: a strength passes the
     # screen over chi2(1) at 0.0025, z(0.00125)^2 = 9.14; the camera (two
