@@ -394,8 +394,9 @@ def margin_sweep(rows, runs, margins, order=None):
     row's commit is archived, the oracle from that run (the table's figure
     when the run has none); outside (nameable, named) over the archived
     single effects at strength 1 that are not in the table (their oracle was
-    under the table's margin) whose oracle reaches m, each at its latest
-    commit by `order` (commits oldest first; default: sorted names); nulls
+    under the table's margin) whose oracle reaches m, each by its run with
+    an oracle (the latest by `order`, commits oldest first, where it has
+    several; without the order that is refused as ambiguous); nulls
     (runs naming an effect, runs) over every archived null run; agree (the
     table's archived rows whose replayed verdict at the table's margin,
     0.05, names the true effect exactly when the table's does, of them)."""
@@ -423,10 +424,15 @@ def margin_sweep(rows, runs, margins, order=None):
                 continue
             if list(c["strength"].values()) != [1.0]:
                 continue
-            latest = max(by_commit, key=lambda k: (rank.get(k, -1), k))
-            r = by_commit[latest]
-            o = (r.get("oracle") or {}).get("shrink")
-            if o is None or o < m:
+            with_oracle = [k for k, r in by_commit.items() if (r.get("oracle") or {}).get("shrink") is not None]
+            if not with_oracle:
+                continue
+            if len(with_oracle) > 1 and not all(k in rank for k in with_oracle):
+                raise ValueError("%s has runs with an oracle at %s: which is the latest needs the repository's "
+                                 "history (order)" % (name, ", ".join(sorted(with_oracle))))
+            r = by_commit[max(with_oracle, key=lambda k: rank.get(k, -1))]
+            o = r["oracle"]["shrink"]
+            if o < m:
                 continue
             on += 1
             onamed += replayed_verdict(r, m) == c["truth"][0]
