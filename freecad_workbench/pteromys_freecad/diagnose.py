@@ -129,9 +129,12 @@ def second_search_question(result):
     if s is None:
         return SECOND_SEARCH_QUESTION
     lo, hi = (duration_text(f * s) for f in SECOND_SEARCH_FACTOR)
-    if lo.startswith("about ") and hi.startswith("about "):
-        hi = hi[len("about "):]
-    span = lo if lo == "about " + hi else "%s to %s" % (lo, hi)
+    if lo == hi:
+        span = lo
+    elif lo.startswith("about ") and hi.startswith("about "):  # "about 23 min to 56 min"
+        span = "%s to %s" % (lo, hi[len("about "):])
+    else:
+        span = "%s to %s" % (lo, hi)
     return SECOND_SEARCH_QUESTION + " This search took %s; expect the second to take %s." % (duration_text(s), span)
 
 
@@ -156,14 +159,15 @@ def stability_question(result):
     s = _seconds_taken(result)
     # each re-run is one diagnosis like the first; after a second search a
     # re-run whose first search names the effect makes no second, so "up to"
-    took = "" if s is None else " (this diagnosis took %s, so %s%s more)" % (
-        duration_text(s), "up to " if both else "", duration_text(2 * s))
+    up_to = "up to " if both else ""
+    took = "" if s is None else " (this diagnosis took %s, so %s%s more)" % (duration_text(s), up_to,
+                                                                            duration_text(2 * s))
     return ("The verdict names %s.\n\n"
             "Check that it holds? The diagnosis is made twice more with the simulation step changed slightly "
             "(1.9 and 2.1 ms for 2 ms)%s; a verdict that changes turns on the search's path rather than on the "
             "data and is marked tentative in the report. It takes %sabout twice as long again%s."
             % (result["verdict"], ", each time with both searches, as the verdict was found" if both else "",
-               "up to " if both else "", took))
+               up_to, took))
 
 
 def summary_text(result):
