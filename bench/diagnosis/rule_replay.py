@@ -507,8 +507,11 @@ def print_margin_sweep(args):
         sys.exit("--margins: a comma list of numbers, such as 0.05,0.03, not %r" % args.margins)
     if not margins or any(not 0 < m < 1 for m in margins):
         sys.exit("--margins: each margin is a share between 0 and 1 (0.05 is the default's 5 %%), not %r" % args.margins)
-    with open(args.docs, encoding="utf-8") as f:
-        rows = plot_blind.top1_rows(f.read())
+    try:
+        with open(args.docs, encoding="utf-8") as f:
+            rows = plot_blind.top1_rows(f.read())
+    except OSError as e:
+        sys.exit("--docs: cannot read the top-1 table's document %s (%s)" % (args.docs, e.strerror))
     runs = archived_runs(args.dirs[0])
     if not runs:
         sys.exit("no archived runs under %s" % args.dirs[0])

@@ -377,6 +377,9 @@ def test_the_margin_sweep_moves_both_sides_of_the_top1_rate():
         with pytest.raises(SystemExit) as e:
             rr.main([rb.ARCHIVE, "--margins", bad])
         assert "--margins" in str(e.value)
+    with pytest.raises(SystemExit) as e:
+        rr.main([rb.ARCHIVE, "--margins", "0.05", "--docs", os.path.join(ROOT, "no-such-doc.md")])
+    assert "--docs: cannot read" in str(e.value) and "no-such-doc.md" in str(e.value)
 
 
 def test_the_documented_margin_sweep_is_the_archives():
