@@ -4,12 +4,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "commands.hpp"
@@ -21,6 +23,18 @@
 
 namespace pteromys::cli {
 namespace {
+
+/// The value a dataset took for a key it did not give (Dataset::defaulted).
+std::string defaulted_value(const Dataset& d, const std::string& key) {
+  std::ostringstream s;
+  if (key == "frame_rate_hz") s << d.frame_rate_hz << " Hz";
+  else if (key == "tracking_sigma_m") s << d.tracking_sigma_m << " m";
+  else if (key == "air.density_kg_m3") s << d.air_density << " kg/m3";
+  else if (key == "air.viscosity_pa_s") s << d.air_viscosity << " Pa s";
+  else if (key == "gravity_m_s2") s << d.gravity << " m/s2";
+  else s << "its default";
+  return s.str();
+}
 
 std::vector<Effect> parse_effect_list(const std::string& s) {
   std::vector<Effect> out;
@@ -91,6 +105,10 @@ void write_report(const std::string& json_path, const std::string& dir, bool qui
     throw std::runtime_error("the report could not be rendered (python3 -m pteromys.diagnose_report failed; "
                              "matplotlib and the pteromys module are needed)");
   }
+  if (const std::string why = report_dir_problem(dir); !why.empty()) {
+    std::filesystem::remove_all(tmp, ec);
+    throw InputError("cannot write report '" + dir + "': " + why);
+  }
   if (exists(dir)) {
     // Replace an earlier report: move it aside, then remove it.
     const std::string old = dir + ".old-" + std::to_string(getpid());
@@ -134,8 +152,12 @@ int run_diagnose(const std::vector<std::string>& argv) {
     const auto parent = std::filesystem::path(r).parent_path();
     if (!parent.empty() && !std::filesystem::is_directory(parent))
       throw InputError("cannot write report '" + r + "': directory '" + parent.string() + "' does not exist");
-    if (exists(r) && !std::filesystem::is_directory(r))
-      throw InputError("cannot write report '" + r + "': it exists and is not a directory");
+    if (const std::string why = report_dir_problem(r); !why.empty())
+      throw InputError("cannot write report '" + r + "': " + why);
+    // the report is made beside it and renamed into place
+    if (access((parent.empty() ? std::string(".") : parent.string()).c_str(), W_OK | X_OK) != 0)
+      throw InputError("cannot write report '" + r + "': directory '" + (parent.empty() ? std::string(".") : parent.string()) +
+                       "' is not writable");
   }
 
   DiagnoseOptions o;
@@ -215,9 +237,20 @@ int run_diagnose(const std::vector<std::string>& argv) {
   const std::string path = a.positional[0];
   const Dataset d = load_dataset(path);
   const bool quiet = a.flag("--quiet");
-  if (!quiet)
-    std::cerr << "pteromys diagnose: " << d.flights.size() << " flights of " << d.gliders.size() << " gliders, "
-              << o.effects.size() << " candidate effects, " << o.folds << " folds\n";
+  if (!quiet) {
+    // leave-gliders-out: at most one fold per glider with flights
+    std::set<std::string> flown;
+    for (const auto& f : d.flights) flown.insert(f.glider);
+    const int folds = std::min<int>(o.folds, static_cast<int>(flown.size()));
+    std::cerr << "pteromys diagnose: " << d.flights.size() << " flights of " << flown.size() << " gliders, "
+              << o.effects.size() << " candidate effects, " << folds << " folds"
+              << (folds < o.folds ? " (at most one per glider; " + std::to_string(o.folds) + " asked)" : std::string())
+              << "\n";
+    for (const auto& k : d.defaulted)
+      std::cerr << "pteromys diagnose: warning: " << path << " gives no " << k << "; " << defaulted_value(d, k)
+                << " is assumed" << (k == "tracking_sigma_m" ? " (the verdicts none and unexplained are judged against it)" : "")
+                << "\n";
+  }
   const DiagnoseCallback progress = [quiet](const DiagnoseProgress& p) {
     if (quiet) return;
     char head[64];
@@ -234,24 +267,20 @@ int run_diagnose(const std::vector<std::string>& argv) {
   j["dataset"]["path"] = path;
   j["pteromys_version"] = kVersion;
   const std::string text = j.dump(1) + "\n";
-  std::string json_path = a.get("--json");
-  if (!json_path.empty()) write_file_atomic(json_path, text);
+  // The report first (from a scratch copy of the result), then the result:
+  // a report that fails leaves no result file either.
   if (a.has("--report")) {
-    std::string src = json_path;
-    std::string scratch;
-    if (src.empty()) {
-      scratch = a.get("--report") + ".json.tmp-" + std::to_string(getpid());
-      write_file_atomic(scratch, text);
-      src = scratch;
-    }
+    const std::string scratch = a.get("--report") + ".json.tmp-" + std::to_string(getpid());
+    write_file_atomic(scratch, text);
     try {
-      write_report(src, a.get("--report"), quiet);
+      write_report(scratch, a.get("--report"), quiet);
     } catch (...) {
-      if (!scratch.empty()) std::remove(scratch.c_str());
+      std::remove(scratch.c_str());
       throw;
     }
-    if (!scratch.empty()) std::remove(scratch.c_str());
+    std::remove(scratch.c_str());
   }
+  if (a.has("--json")) write_file_atomic(a.get("--json"), text);
   if (!quiet) {
     std::cout << "verdict: " << r.verdict << "\n" << r.summary << (st ? " " + st->sentence : std::string()) << "\n";
     std::cout << "baseline: fit RMSE " << r.fit_rmse_m << " m, held-out RMSE " << r.holdout_rmse_m << " m (noise alone "

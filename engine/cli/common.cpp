@@ -1,8 +1,12 @@
 #include "common.hpp"
 
+#include "pteromys/io.hpp"
+
+#include <cerrno>
 #include <cstdio>
 #include <sstream>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace pteromys::cli {
 
@@ -55,13 +59,29 @@ std::string summary_text(const Flyability& f) {
 }
 
 void check_writable(const std::string& path, const std::string& what) {
-  const auto slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  if (path.empty()) throw InputError("cannot write " + what + ": no file name given (an empty path)");
   struct stat st {};
-  if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-    throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' does not exist");
-  if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
-    throw InputError("cannot write " + what + " '" + path + "': it is a directory");
+  if (stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw InputError("cannot write " + what + " '" + path + "': it is a directory");
+    if (!S_ISREG(st.st_mode)) {
+      // a device or pipe (/dev/stdout, /dev/null) is written into
+      if (access(path.c_str(), W_OK) != 0)
+        throw InputError("cannot write " + what + " '" + path + "': permission denied");
+      return;
+    }
+  }
+  // a symbolic link is written through: its target's directory must take
+  // the new file
+  const std::string target = output_target(path);  // (a loop of links: its own message)
+  const auto slash = target.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : target.substr(0, slash));
+  if (stat(dir.c_str(), &st) != 0)
+    throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' " +
+                     (errno == EACCES ? "cannot be reached (permission denied)" : "does not exist"));
+  if (!S_ISDIR(st.st_mode))
+    throw InputError("cannot write " + what + " '" + path + "': '" + dir + "' is not a directory");
+  if (access(dir.c_str(), W_OK | X_OK) != 0)
+    throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' is not writable");
 }
 
 }  // namespace pteromys::cli

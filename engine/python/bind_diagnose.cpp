@@ -84,7 +84,21 @@ json features_json(const GliderFeatures& f) {
 
 DiagnoseOptions options_from(const py::dict& kw) {
   DiagnoseOptions o;
-  auto num = [&](const char* k, double def) { return kw.contains(k) && !kw[k].is_none() ? kw[k].cast<double>() : def; };
+  auto num = [&](const char* k, double def) {
+    if (!kw.contains(k) || kw[k].is_none()) return def;
+    const py::object v = kw[k];
+    // a number (numpy's too), not text or a bool that would pass for one
+    auto refuse = [&]() {
+      return InputError(std::string(k) + " must be a number, not " +
+                        py::str(v.get_type().attr("__name__")).cast<std::string>() + " " + py::repr(v).cast<std::string>());
+    };
+    if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v)) throw refuse();
+    try {
+      return v.cast<double>();
+    } catch (const py::cast_error&) {
+      throw refuse();
+    }
+  };
   auto whole = [&](const char* k, int def, int lo, int hi) { return whole_number(k, num(k, def), lo, hi); };
   o.folds = whole("folds", o.folds, 2, 1000);
   if (kw.contains("effects") && !kw["effects"].is_none()) {
@@ -308,10 +322,13 @@ void bind_diagnose(py::module_& m) {
   m.def("_diagnose", [](const std::string& dataset, const py::dict& kw, const py::object& progress) {
     const Dataset d = load_dataset(dataset);
     const DiagnoseOptions o = options_from(kw);
-    DiagnoseCallback cb;
-    if (!progress.is_none())
-      cb = [progress](const DiagnoseProgress& p) {
+    // Every progress report also lets Python handle its signals: Ctrl-C
+    // (KeyboardInterrupt) stops the engine there, as an exception raised by
+    // `progress` does, instead of after the whole diagnosis.
+    const DiagnoseCallback cb = [progress](const DiagnoseProgress& p) {
         py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        if (progress.is_none()) return;
         py::dict x;
         x["stage"] = p.stage;
         x["step"] = p.step;
@@ -478,6 +495,9 @@ void bind_diagnose(py::module_& m) {
     return j.dump();
   }, py::arg("dataset"), py::arg("options"), py::arg("progress") = py::none());
 
+  m.def("report_dir_problem", &report_dir_problem, py::arg("dir"),
+        "Why directory `dir` may not be replaced by a diagnosis report, or '' when it may (it does not exist, is "
+        "empty, or is an earlier report: index.html with only report.md, diagnosis.json and PNG plots beside it).");
   m.def("_chi2_sf", &chi2_sf, py::arg("x"), py::arg("k"));
   m.def("_chi2_isf", &chi2_isf, py::arg("p"), py::arg("k"));
 }

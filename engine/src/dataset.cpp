@@ -69,6 +69,20 @@ std::string fmt(double v) {
   return s.str();
 }
 
+/// A number as a person reads it (6 significant digits).
+std::string short_num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+// What a dataset of tracked hand-launched glides can hold (dataset_problems).
+constexpr double kMaxFlightS = 60.0;        ///< first to last tracked point of a flight [s]
+constexpr double kMaxGapS = 2.0;            ///< between two tracked points of a flight [s]
+constexpr double kMaxPositionM = 10000.0;   ///< |x|, |y| of a tracked point [m]
+constexpr double kMaxTrackingSigmaM = 10.0; ///< tracking noise [m]
+
 }  // namespace
 
 std::vector<std::string> dataset_problems(const Dataset& d) {
@@ -78,6 +92,9 @@ std::vector<std::string> dataset_problems(const Dataset& d) {
       out.push_back("frame_rate_hz, tracking_sigma_m, air density and viscosity and gravity must be positive numbers");
       break;
     }
+  if (d.tracking_sigma_m > kMaxTrackingSigmaM && std::isfinite(d.tracking_sigma_m))
+    out.push_back("tracking_sigma_m is " + short_num(d.tracking_sigma_m) + " m: the tracking noise is in metres (at most " +
+                  short_num(kMaxTrackingSigmaM) + " m is read)");
   std::set<std::string> names;
   for (const auto& f : d.flights) {
     const std::string w = "flight '" + f.name + "'";
@@ -86,6 +103,7 @@ std::vector<std::string> dataset_problems(const Dataset& d) {
     if (!d.gliders.count(f.glider)) out.push_back(w + " refers to unknown glider key '" + f.glider + "'");
     if (f.points.size() < 6)
       out.push_back(w + " has " + std::to_string(f.points.size()) + " points; at least 6 are needed");
+    std::string gap;  // the first gap between points longer than kMaxGapS
     for (std::size_t i = 0; i < f.points.size(); ++i) {
       const auto& p = f.points[i];
       if (!std::isfinite(p.t) || !std::isfinite(p.x) || !std::isfinite(p.y)) {
@@ -97,7 +115,27 @@ std::vector<std::string> dataset_problems(const Dataset& d) {
                       fmt(f.points[i - 1].t) + " then " + fmt(p.t) + " s)");
         break;
       }
+      if (i > 0 && p.t - f.points[i - 1].t > kMaxGapS && gap.empty())
+        gap = w + " has no point for " + short_num(p.t - f.points[i - 1].t) + " s (t = " +
+              short_num(f.points[i - 1].t) + " to " + short_num(p.t) +
+              " s): a glide is tracked frame by frame, so this is a stray point or two flights under one name (at "
+              "most " + short_num(kMaxGapS) + " s between points is read)";
+      // Units: a position in millimetres or a time in milliseconds makes
+      // flights that every fit would simulate for hours.
+      if (std::abs(p.x) > kMaxPositionM || std::abs(p.y) > kMaxPositionM) {
+        out.push_back(w + " point " + std::to_string(i) + " is at (" + short_num(p.x) + ", " + short_num(p.y) +
+                      ") m: positions are in metres, and a tracked glide spans metres to tens of metres (at most " +
+                      short_num(kMaxPositionM) + " m from the origin is read)");
+        break;
+      }
     }
+    // (times in milliseconds also leave gaps: the span is the message then)
+    if (f.points.size() >= 2 && f.points.back().t - f.points.front().t > kMaxFlightS)
+      out.push_back(w + " spans " + short_num(f.points.back().t - f.points.front().t) +
+                    " s from its first to its last point: times are in seconds, and a tracked hand-launched glide "
+                    "lasts seconds (at most " + short_num(kMaxFlightS) + " s is read)");
+    else if (!gap.empty())
+      out.push_back(gap);
   }
   if (d.flights.empty()) out.push_back("the dataset has no flights");
   return out;
@@ -119,7 +157,10 @@ Dataset load_dataset(const std::string& path) {
     fail("unknown format " + (j.contains("format") ? j["format"].dump() : std::string("(missing)")) +
          " (expected \"pteromys-flights/1\")");
   auto num = [&](const char* k, double def, const json& obj, const std::string& pre) {
-    if (!obj.contains(k)) return def;
+    if (!obj.contains(k)) {
+      d.defaulted.push_back(pre + k);
+      return def;
+    }
     const json& v = obj.at(k);
     if (!v.is_number()) fail(pre + k + " must be a number");
     const double x = v.get<double>();
@@ -141,6 +182,9 @@ Dataset load_dataset(const std::string& path) {
     if (!j["air"].is_object()) fail("air must be an object");
     d.air_density = num("density_kg_m3", 1.2, j["air"], "air.");
     d.air_viscosity = num("viscosity_pa_s", 1.8e-5, j["air"], "air.");
+  } else {
+    d.defaulted.push_back("air.density_kg_m3");
+    d.defaulted.push_back("air.viscosity_pa_s");
   }
   d.gravity = num("gravity_m_s2", 9.81, j, "");
 
@@ -152,6 +196,7 @@ Dataset load_dataset(const std::string& path) {
   std::vector<std::string> header;
   while (std::getline(csv, line)) {
     ++lineno;
+    if (lineno == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark (spreadsheets)
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
     header = split_csv_line(line);

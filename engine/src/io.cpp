@@ -119,9 +119,69 @@ extern "C" void remove_temps_and_reraise(int sig) {
 
 }  // namespace
 
+std::string output_target(const std::string& path) {
+  if (path.empty()) throw InputError("no output file name given (an empty path)");
+  struct stat st {};
+  // A device, pipe or socket (followed through links: /dev/stdout) is not
+  // a file that can be replaced by a rename.
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+    throw InputError("cannot write '" + path + "': it is not a regular file (a device, pipe or socket), and this "
+                     "output is written as a new file renamed into place, which would replace it");
+  std::string p = path;
+  for (int hop = 0; hop < 40; ++hop) {
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) {
+      if (::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+        throw InputError("cannot write '" + path + "': it is a directory");
+      return p;
+    }
+    std::string target(4096, '\0');
+    const ssize_t n = ::readlink(p.c_str(), target.data(), target.size());
+    if (n <= 0) return p;
+    target.resize(static_cast<std::size_t>(n));
+    if (target[0] != '/') {
+      const auto slash = p.find_last_of('/');
+      if (slash != std::string::npos) target = p.substr(0, slash + 1) + target;
+    }
+    p = target;
+  }
+  throw InputError("cannot write '" + path + "': too many levels of symbolic links");
+}
+
+std::string report_dir_problem(const std::string& dir) {
+  if (dir.empty()) return "no directory given (an empty path)";
+  struct stat st {};
+  if (::lstat(dir.c_str(), &st) != 0) return "";  // a new directory
+  if (S_ISLNK(st.st_mode)) return "it is a symbolic link (a report replaces the directory; name the directory itself)";
+  if (!S_ISDIR(st.st_mode)) return "it exists and is not a directory";
+  DIR* d = ::opendir(dir.c_str());
+  if (!d) return "it cannot be read (" + errno_text(errno) + ")";
+  bool index = false;
+  std::string foreign;
+  int entries = 0;
+  while (const dirent* e = ::readdir(d)) {
+    const std::string n = e->d_name;
+    if (n == "." || n == "..") continue;
+    ++entries;
+    struct stat es {};
+    const bool file = ::lstat((dir + "/" + n).c_str(), &es) == 0 && S_ISREG(es.st_mode);
+    const bool png = n.size() > 4 && n.compare(n.size() - 4, 4, ".png") == 0;
+    if (file && n == "index.html") index = true;
+    else if (!(file && (n == "report.md" || n == "diagnosis.json" || png)) && foreign.empty()) foreign = n;
+  }
+  ::closedir(d);
+  if (entries == 0) return "";
+  if (!foreign.empty())
+    return "it holds '" + foreign + "', which a diagnosis report does not write, and a report replaces the whole "
+           "directory: choose a new or empty directory, or an earlier report's";
+  if (!index)
+    return "it is not an earlier report (no index.html), and a report replaces the whole directory: choose a new "
+           "or empty directory, or an earlier report's";
+  return "";
+}
+
 std::string temp_path_for(const std::string& path, const std::string& suffix) {
   static std::atomic<unsigned> counter{0};
-  std::string tmp = path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + suffix;
+  std::string tmp = output_target(path) + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + suffix;
   register_temp(tmp);
   return tmp;
 }
@@ -131,6 +191,9 @@ void remove_temp_files_on_signal() {
 }
 
 void commit_temp_file(const std::string& tmp, const std::string& path, const std::string& trailer) {
+  // the file a link points to is replaced, not the link (temp_path_for put
+  // tmp beside it)
+  const std::string target = output_target(path);
   auto fail = [&](const std::string& why) {
     std::remove(tmp.c_str());
     unregister_temp(tmp);
@@ -159,21 +222,56 @@ void commit_temp_file(const std::string& tmp, const std::string& path, const std
     fail(errno_text(e));
   }
   if (::close(fd) != 0) fail(errno_text(errno));
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed: " + errno_text(errno));
+  if (std::rename(tmp.c_str(), target.c_str()) != 0) fail("rename failed: " + errno_text(errno));
   unregister_temp(tmp);
-  fsync_dir_of(path);
+  fsync_dir_of(target);
 }
 
 bool rename_temp_into_place(const std::string& tmp, const std::string& path) {
-  const bool ok = std::rename(tmp.c_str(), path.c_str()) == 0;
+  std::string target;
+  try {
+    target = output_target(path);
+  } catch (const InputError&) {
+    return false;
+  }
+  const bool ok = std::rename(tmp.c_str(), target.c_str()) == 0;
   if (ok) {
     unregister_temp(tmp);
-    fsync_dir_of(path);
+    fsync_dir_of(target);
   }
   return ok;
 }
 
+namespace {
+// Writes text into an existing device, pipe or socket (/dev/stdout,
+// /dev/null, a named pipe), as a shell redirection would: it cannot be
+// replaced by a rename, and a person naming one means "write into it".
+void write_into_special_file(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      const int e = w < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw InputError("cannot write '" + path + "': write failed after " + std::to_string(done) + " of " +
+                       std::to_string(text.size()) + " bytes (" + errno_text(e) + ")");
+    }
+    done += static_cast<std::size_t>(w);
+  }
+  if (::close(fd) != 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
+}
+}  // namespace
+
 void write_file_atomic(const std::string& path, const std::string& text) {
+  if (path.empty()) throw InputError("no output file name given (an empty path)");
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
+    write_into_special_file(path, text);
+    return;
+  }
   const std::string tmp = temp_path_for(path);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) {
@@ -204,7 +302,7 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     throw InputError("cannot write '" + path + "': " + errno_text(e));
   }
   if (text.empty()) {  // commit_temp_file refuses empty files; an empty text is legitimate here
-    const bool ok = std::rename(tmp.c_str(), path.c_str()) == 0;
+    const bool ok = std::rename(tmp.c_str(), output_target(path).c_str()) == 0;
     if (!ok) std::remove(tmp.c_str());
     unregister_temp(tmp);
     if (!ok) throw InputError("cannot write '" + path + "': rename failed");

@@ -99,3 +99,53 @@ TEST(Dataset, NonContiguousRowsAreRejected) {
   write(dir + "/flights.csv", csv);
   EXPECT_THROW(load_dataset(dir + "/dataset.json"), InputError);
 }
+
+// Values in the wrong units are refused by their limits (docs/formats.md):
+// each limit itself is accepted, a little past it is not, and the message
+// names the unit.
+TEST(Dataset, ValuesInTheWrongUnitsAreRefusedAtTheirLimits) {
+  auto problems_with = [](auto change) {
+    Dataset d = small_dataset();
+    change(d);
+    return dataset_problems(d);
+  };
+  auto first_has = [](const std::vector<std::string>& p, const std::string& fragment) {
+    return !p.empty() && p.front().find(fragment) != std::string::npos;
+  };
+  // a flight of 6 points 12 s apart spans 60 s: gaps are the message, not the span
+  auto spaced = [](double dt) {
+    return [dt](Dataset& d) {
+      for (std::size_t i = 0; i < d.flights[0].points.size(); ++i) d.flights[0].points[i].t = dt * i;
+    };
+  };
+  EXPECT_TRUE(problems_with(spaced(2.0)).empty());  // 8 points 2 s apart: 14 s, gaps at the limit
+  EXPECT_TRUE(first_has(problems_with(spaced(2.01)), "has no point for 2.01 s (t = 0 to 2.01 s)"));
+  EXPECT_TRUE(first_has(problems_with(spaced(8.0)), "has no point for 8 s"));  // a 56 s span, its gaps over 2 s
+  const auto ms = problems_with(spaced(60.01 / 7));
+  EXPECT_TRUE(first_has(ms, "spans 60.01 s from its first to its last point: times are in seconds")) << ms.front();
+  EXPECT_EQ(ms.size(), 1u);  // one message for the flight, the span's
+  auto at = [](double x, double y) {
+    return [x, y](Dataset& d) { d.flights[1].points[3] = {d.flights[1].points[3].t, x, y}; };
+  };
+  EXPECT_TRUE(problems_with(at(10000.0, -10000.0)).empty());
+  EXPECT_TRUE(first_has(problems_with(at(10000.5, 1.0)), "flight 'f1' point 3 is at (10000.5, 1) m: positions are in metres"));
+  EXPECT_TRUE(first_has(problems_with(at(0.0, -1e30)), "is at (0, -1e+30) m"));
+  EXPECT_TRUE(problems_with([](Dataset& d) { d.tracking_sigma_m = 10.0; }).empty());
+  EXPECT_TRUE(first_has(problems_with([](Dataset& d) { d.tracking_sigma_m = 12.0; }), "tracking_sigma_m is 12 m"));
+}
+
+// A byte order mark before the CSV header is skipped; keys left out are
+// listed as defaulted.
+TEST(Dataset, ByteOrderMarkIsSkippedAndDefaultsAreListed) {
+  const std::string dir = temp_dir();
+  save_dataset(small_dataset(), dir);
+  write(dir + "/flights.csv", "\xEF\xBB\xBF" + read_file(dir + "/flights.csv"));
+  auto j = parse_json(read_file(dir + "/dataset.json"), "dataset");
+  j.erase("tracking_sigma_m");
+  j.erase("air");
+  write(dir + "/dataset.json", j.dump());
+  const Dataset e = load_dataset(dir + "/dataset.json");
+  EXPECT_EQ(e.flights.size(), 2u);
+  EXPECT_EQ(e.tracking_sigma_m, 0.05);
+  EXPECT_EQ(e.defaulted, (std::vector<std::string>{"tracking_sigma_m", "air.density_kg_m3", "air.viscosity_pa_s"}));
+}

@@ -1,5 +1,9 @@
 #include "pteromys/io.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <fstream>
 #include <random>
 
@@ -114,4 +118,69 @@ TEST(Report, HasTheSpecKeys) {
   for (const auto& l : j.at("launches"))
     for (const char* k : {"speed_m_s", "angle_deg", "height_m", "distance_m", "flight_time_s"})
       EXPECT_TRUE(l.at(k).is_number()) << k;
+}
+
+namespace {
+std::string fresh_dir() {
+  char tmpl[] = "/tmp/pteromys-out-XXXXXX";
+  return mkdtemp(tmpl);
+}
+void put(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+}  // namespace
+
+// Links are written through, never replaced; what a rename would destroy or
+// cannot reach is refused by name.
+TEST(OutputPaths, LinksAreWrittenThroughAndSpecialFilesRefused) {
+  const std::string d = fresh_dir();
+  ASSERT_EQ(::mkdir((d + "/sub").c_str(), 0777), 0);
+  ASSERT_EQ(::symlink("sub/real.json", (d + "/link.json").c_str()), 0);
+  EXPECT_EQ(output_target(d + "/link.json"), d + "/sub/real.json");
+  write_file_atomic(d + "/link.json", "{}\n");
+  struct stat st {};
+  ASSERT_EQ(::lstat((d + "/link.json").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISLNK(st.st_mode));
+  EXPECT_EQ(read_file(d + "/sub/real.json"), "{}\n");
+  ASSERT_EQ(::symlink("b", (d + "/a").c_str()), 0);
+  ASSERT_EQ(::symlink("a", (d + "/b").c_str()), 0);
+  auto message = [](const std::string& p) {
+    try {
+      output_target(p);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message(d + "/a").find("too many levels of symbolic links"), std::string::npos);
+  EXPECT_NE(message("").find("empty path"), std::string::npos);
+  EXPECT_NE(message(d + "/sub").find("it is a directory"), std::string::npos);
+  EXPECT_NE(message("/dev/null").find("not a regular file"), std::string::npos);
+  // written into, as a redirection would: /dev/null stays a device
+  write_file_atomic("/dev/null", "discarded\n");
+  ASSERT_EQ(::stat("/dev/null", &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
+  EXPECT_THROW(write_file_atomic("", "x"), InputError);
+}
+
+// A report may replace only a new, empty or earlier report directory.
+TEST(OutputPaths, ReportDirectoryHoldsOnlyAReport) {
+  const std::string d = fresh_dir();
+  EXPECT_EQ(report_dir_problem(d + "/new"), "");
+  EXPECT_EQ(report_dir_problem(d), "");  // empty
+  put(d + "/index.html", "<html></html>");
+  put(d + "/report.md", "#");
+  put(d + "/effects.png", "png");
+  put(d + "/diagnosis.json", "{}");
+  EXPECT_EQ(report_dir_problem(d), "");
+  put(d + "/notes.txt", "mine");
+  EXPECT_NE(report_dir_problem(d).find("'notes.txt'"), std::string::npos);
+  std::remove((d + "/notes.txt").c_str());
+  std::remove((d + "/index.html").c_str());
+  EXPECT_NE(report_dir_problem(d).find("no index.html"), std::string::npos);
+  put(d + "/index.html", "<html></html>");
+  ASSERT_EQ(::mkdir((d + "/plots").c_str(), 0777), 0);  // a subdirectory is not the report's
+  EXPECT_NE(report_dir_problem(d).find("'plots'"), std::string::npos);
+  EXPECT_NE(report_dir_problem(d + "/report.md").find("not a directory"), std::string::npos);
+  ASSERT_EQ(::symlink(d.c_str(), (d + "-link").c_str()), 0);
+  EXPECT_NE(report_dir_problem(d + "-link").find("symbolic link"), std::string::npos);
+  std::remove((d + "-link").c_str());
 }

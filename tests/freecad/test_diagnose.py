@@ -126,3 +126,29 @@ RESULT["duration_refused"] = bad
     steps = res["steps"]
     assert len(steps) > 5 and steps[-1][2] == "done" and steps[-1][0] == steps[-1][1]
     assert not [p for p in os.listdir(report.parent) if p.startswith(".diagnosis-")]
+
+
+def test_a_report_folder_holding_other_files_is_refused_before_the_run(fc, tmp_path):
+    """The report replaces its folder as a whole: a `diagnosis/` folder with a
+    person's notes in it is refused by name before the engine runs (no
+    progress report), and the notes stay; the document's FreeCAD keeps going."""
+    ds = _dataset(tmp_path)
+    report = tmp_path / "flights" / "diagnosis"
+    report.mkdir()
+    (report / "notes.txt").write_text("keep me")
+    res = fc('''
+import pteromys_freecad.diagnose as pd
+steps = []
+try:
+    pd.run_diagnosis(%r, progress=lambda p: steps.append(p["stage"]), folds=3, max_centres=1,
+                     effects=["wind"], threads=1)
+    RESULT["refusal"] = None
+except ValueError as e:
+    RESULT["refusal"] = str(e)
+RESULT["steps"] = steps
+''' % str(ds), timeout=300)
+    assert res["refusal"] and "notes.txt" in res["refusal"] and "replaces the whole directory" in res["refusal"], res
+    assert res["steps"] == []
+    assert os.listdir(report) == ["notes.txt"] and (report / "notes.txt").read_text() == "keep me"
+    assert sorted(os.listdir(tmp_path / "flights")) == sorted(["dataset.json", "flights.csv", "generation.json",
+                                                              "gliders", "diagnosis"])

@@ -37,6 +37,10 @@ struct Dataset {
   std::vector<TrackedFlight> flights;
   /// Column names of the optional per-flight columns, in file order.
   std::vector<std::string> extra_columns;
+  /// Keys dataset.json did not give, whose defaults above were taken
+  /// (frame_rate_hz, tracking_sigma_m, air.density_kg_m3,
+  /// air.viscosity_pa_s, gravity_m_s2), for commands to say so.
+  std::vector<std::string> defaulted;
 };
 
 /// Reads dataset.json and what it refers to. Throws InputError naming the

@@ -47,8 +47,24 @@ std::string trajectories_csv(const Flyability& f);
 /// Writes text to `path` through a temporary file and a rename, so that a
 /// failure (a full disk, a file size limit, a kill) leaves the old file or the
 /// new one, never a fragment. Every write is checked, the data is flushed to
-/// disk (fsync) before the rename. Throws InputError on failure.
+/// disk (fsync) before the rename. A symbolic link is written through (its
+/// target replaced); an existing device, pipe or socket (/dev/stdout, a
+/// named pipe) is written into, as a shell redirection would. Throws
+/// InputError on failure (an empty path among them).
 void write_file_atomic(const std::string& path, const std::string& text);
+
+/// Where a write to `path` lands: `path` with its symbolic links followed
+/// (the file a link points to is replaced, the link stays). Throws
+/// InputError naming `path` when it is empty, a directory, a device, pipe or
+/// socket (which a rename would replace), or a loop of links.
+std::string output_target(const std::string& path);
+
+/// Why the directory `dir` may not be replaced by a diagnosis report
+/// (pteromys diagnose --report, the FreeCAD command), or "" when it may: it
+/// does not exist, is empty, or is an earlier report (index.html with only
+/// what a report writes beside it: report.md, diagnosis.json, *.png).
+/// Anything else in it (a person's files, the dataset itself) would be lost.
+std::string report_dir_problem(const std::string& dir);
 
 /// A fresh temporary name beside `path` (same directory, so that the rename is
 /// atomic), ending in `suffix` (some writers choose the format by extension).

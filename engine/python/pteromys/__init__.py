@@ -73,4 +73,4 @@ from ._core import export, fabrication_plan, slotted_plates  # noqa: F401,E402  
 from .fit import fit, fit_launch, predict_flights, simulate_track, synthetic_dataset  # noqa: E402,F401  (issue 6)
 from .reference import *  # noqa: E402,F401,F403  (issue 6: reference simulator)
 from . import capture  # noqa: E402,F401  (issue 8: flight capture, docs/capture.md)
-from .diagnose import diagnose, diagnosis_report, effect_library  # noqa: E402,F401  (issue 7: sim-to-real diagnosis)
+from .diagnose import diagnose, diagnosis_report, effect_library, report_dir_problem  # noqa: E402,F401  (issue 7: sim-to-real diagnosis)

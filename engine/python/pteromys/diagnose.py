@@ -15,7 +15,16 @@ import json as _json
 from . import _core
 
 __all__ = ["diagnose", "diagnosis_report", "effect_library", "glider_features", "effect_wrench", "diagnosis_fit",
-           "chi2_sf", "chi2_isf"]
+           "chi2_sf", "chi2_isf", "report_dir_problem"]
+
+
+def report_dir_problem(path):
+    """Why directory ``path`` may not be replaced by a diagnosis report, or
+    "" when it may: it does not exist, is empty, or is an earlier report
+    (index.html with only report.md, diagnosis.json and PNG plots beside it).
+    A report replaces the whole directory, so anything else in it (a
+    person's files, the dataset itself) would be lost."""
+    return _core.report_dir_problem(str(path))
 
 
 def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.05,
@@ -31,7 +40,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
              stability=0, first=None, progress=None):
     """Diagnose the gap between the wing-element model and the tracked flights of ``dataset``.
 
-    ``effects``: candidate names (default: the whole library, ``effect_library()``).
+    ``effects``: candidate names, a list or one comma-separated string (default: the whole library,
+    ``effect_library()``).
     ``model``: an RBF model (or path) the coefficient fits start from, or a
     flat-plate model used as their prior. ``folds``: leave-gliders-out folds.
     ``alpha``: family-wise level of the likelihood-ratio tests (Holm).
@@ -116,6 +126,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     (format ``pteromys-diagnosis/1``: baseline, effects sorted best first,
     verdict, summary, where, ...).
     """
+    if isinstance(effects, str):  # "wind,camera", as the CLI's --effects
+        effects = [e.strip() for e in effects.split(",") if e.strip()]
     opts = dict(folds=folds, effects=list(effects) if effects is not None else None, trim=bool(trim), model=model,
                 alpha=alpha, min_shrink=min_shrink, holdout_chi2_test=bool(holdout_chi2_test),
                 none_tolerance=none_tolerance, collinearity_limit=collinearity_limit, max_centres=max_centres,

@@ -1,0 +1,296 @@
+"""Where `pteromys diagnose` may write, and the datasets it reads in the
+wrong units (docs/reliability.md, "No lost work"; docs/formats.md, "Flight
+dataset"): found by a review of bad input on 2026-12-06, where --report
+deleted whatever its directory held (the dataset itself, when pointed at
+its folder), --json replaced devices, pipes and symbolic links with regular
+files, --json '' computed everything and wrote nothing, a report that failed
+left the result file behind, times in milliseconds made a diagnosis run for
+hours, and Python's Ctrl-C waited for the whole diagnosis.
+
+Every expectation here is what the file system shows afterwards (the files
+that exist, their bytes, their type), not what the command says it did.
+"""
+import json
+import os
+import signal
+import stat
+import subprocess
+import sys
+import textwrap
+import threading
+
+import pytest
+
+from conftest import BUILD, ROOT, load, run
+
+GLIDERS = ["t01-rectangular", "t04-tapered-mild", "t06-swept-15"]
+# A diagnosis of a few seconds: two candidates, fixed coefficients, 3 folds.
+QUICK = ["--folds", "3", "--effects", "wind,camera", "--iterations", "2", "--max-centres", "2", "--no-full-fit",
+         "--threads", "1", "--no-profile", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("outpaths")
+    gl = tmp / "gliders"
+    gl.mkdir()
+    for g in GLIDERS:
+        (gl / (g + ".glider.json")).write_text(open(os.path.join(ROOT, "examples", "training", g + ".glider.json")).read())
+    r = run(["generate", gl, "-o", tmp / "data", "--flights-per-glider", "2", "--seed", "5", "--quiet"])
+    assert r.returncode == 0, r.stderr
+    return tmp / "data"
+
+
+def _snapshot(d):
+    """Every file under d with its bytes."""
+    out = {}
+    for root, _, files in os.walk(d):
+        for f in files:
+            p = os.path.join(root, f)
+            out[os.path.relpath(p, d)] = open(p, "rb").read()
+    return out
+
+
+def test_a_report_is_not_written_over_the_dataset_or_a_persons_files(tmp_path, dataset):
+    import shutil
+    ds = tmp_path / "ds"
+    shutil.copytree(dataset, ds)
+    before = _snapshot(ds)
+    out = tmp_path / "o.json"
+    r = run(["diagnose", ds / "dataset.json", "--json", out, "--report", ds] + QUICK)
+    assert r.returncode == 2 and "flights.csv" in r.stderr or "dataset.json" in r.stderr, r.stderr
+    assert "replaces the whole directory" in r.stderr
+    assert _snapshot(ds) == before and not out.exists()
+    notes = tmp_path / "mine"
+    notes.mkdir()
+    (notes / "notes.txt").write_text("keep me")
+    r = run(["diagnose", ds / "dataset.json", "--json", out, "--report", notes] + QUICK)
+    assert r.returncode == 2 and "notes.txt" in r.stderr, r.stderr
+    assert (notes / "notes.txt").read_text() == "keep me" and os.listdir(notes) == ["notes.txt"]
+    # pictures alone are not an earlier report either (no index.html)
+    pics = tmp_path / "pics"
+    pics.mkdir()
+    (pics / "holiday.png").write_bytes(b"\x89PNG")
+    r = run(["diagnose", ds / "dataset.json", "--json", out, "--report", pics] + QUICK)
+    assert r.returncode == 2 and "index.html" in r.stderr and os.listdir(pics) == ["holiday.png"]
+    assert not out.exists()
+
+
+def test_an_earlier_report_or_an_empty_directory_is_replaced(tmp_path, dataset):
+    rep = tmp_path / "rep"
+    rep.mkdir()  # empty
+    out = tmp_path / "o.json"
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
+    first = sorted(os.listdir(rep))
+    assert "index.html" in first and "report.md" in first
+    (rep / "stale.png").write_bytes(b"old plot")  # a plot an earlier report had, gone from the new one
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
+    assert sorted(os.listdir(rep)) == first
+    assert [f for f in os.listdir(tmp_path) if ".tmp" in f or ".old" in f] == []
+
+
+def test_a_report_that_fails_leaves_no_result_file(tmp_path, dataset):
+    """The report is rendered by Debian's python3 -m pteromys.diagnose_report;
+    a PYTHONHOME where no Python lives makes that interpreter fail to start
+    (the command itself is C++ and does not care)."""
+    env = dict(os.environ, PYTHONHOME=str(tmp_path / "no-python-here"))
+    out = tmp_path / "o.json"
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", tmp_path / "rep"] + QUICK, env=env)
+    if r.returncode == 0:
+        pytest.fail("the report did not fail under a PYTHONHOME without Python, so this test cannot check what a "
+                    "failed report leaves")
+    assert "the report could not be rendered" in r.stderr, r.stderr
+    assert not out.exists() and not (tmp_path / "rep").exists()
+    assert os.listdir(tmp_path) == []
+
+
+def test_an_empty_or_impossible_json_path_is_refused_before_the_work(tmp_path, dataset):
+    for bad, words in [("", "no file name"), (str(tmp_path / "afile" / "o.json"), "is not a directory"),
+                       (str(tmp_path), "is a directory")]:
+        (tmp_path / "afile").write_text("x")
+        r = run(["diagnose", dataset / "dataset.json", "--json", bad] + QUICK[:-1])
+        assert r.returncode == 2 and words in r.stderr, (bad, r.stderr)
+        # refused before the dataset was read: no progress line
+        assert "flights of" not in r.stderr
+
+
+def test_an_unwritable_directory_is_refused_before_the_work(dataset):
+    """Root writes anywhere, so as root the command runs as the user nobody
+    (runuser); everything it needs is made in /tmp, where nobody can reach it."""
+    import shutil
+    import tempfile
+    top = tempfile.mkdtemp(prefix="pteromys-ro-")
+    try:
+        shutil.copytree(dataset, os.path.join(top, "data"))
+        for root, dirs, files in os.walk(top):
+            for x in dirs:
+                os.chmod(os.path.join(root, x), 0o755)
+            for x in files:
+                os.chmod(os.path.join(root, x), 0o644)
+        os.chmod(top, 0o777)  # the result may go here; the report may not go into ro
+        ro = os.path.join(top, "ro")
+        os.mkdir(ro)
+        os.chmod(ro, 0o555)
+        # a copy of the command where nobody can run it (the build tree may be
+        # in a directory only root can enter)
+        exe = os.path.join(top, "pteromys")
+        shutil.copy(os.path.join(BUILD, "bin", "pteromys"), exe)
+        os.chmod(exe, 0o755)
+        cmd = [exe, "diagnose", os.path.join(top, "data", "dataset.json")]
+        if os.geteuid() == 0:
+            cmd = ["runuser", "-u", "nobody", "--"] + cmd
+        for out in (["--json", os.path.join(ro, "o.json")], ["--json", os.path.join(top, "o.json"), "--report",
+                                                             os.path.join(ro, "rep")]):
+            r = subprocess.run(cmd + out + QUICK[:-1], capture_output=True, text=True, timeout=300)
+            assert r.returncode == 2 and "'%s' is not writable" % ro in r.stderr, r.stderr
+            assert "flights of" not in r.stderr  # before the dataset was read
+        assert os.listdir(ro) == [] and not os.path.exists(os.path.join(top, "o.json"))
+    finally:
+        shutil.rmtree(top, ignore_errors=True)
+
+
+def test_a_symbolic_link_is_written_through(tmp_path, dataset):
+    (tmp_path / "target").mkdir()
+    link = tmp_path / "link.json"
+    os.symlink("target/real.json", link)
+    r = run(["diagnose", dataset / "dataset.json", "--json", link] + QUICK)
+    assert r.returncode == 0, r.stderr
+    assert os.path.islink(link) and os.readlink(link) == "target/real.json"
+    assert load(tmp_path / "target" / "real.json")["format"] == "pteromys-diagnosis/1"
+
+
+def test_a_pipe_is_written_into_not_replaced(tmp_path, dataset):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got = {}
+
+    def reader():
+        with open(fifo, "rb") as f:
+            got["bytes"] = f.read()
+    t = threading.Thread(target=reader, daemon=True)
+    t.start()
+    r = run(["diagnose", dataset / "dataset.json", "--json", fifo] + QUICK)
+    t.join(60)
+    assert r.returncode == 0, r.stderr
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+    assert json.loads(got["bytes"])["format"] == "pteromys-diagnosis/1"
+
+
+def test_standard_output_can_take_the_result(dataset):
+    r = run(["diagnose", dataset / "dataset.json", "--json", "/dev/stdout"] + QUICK)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["format"] == "pteromys-diagnosis/1"
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+
+
+def _rewrite(src, dst, change_csv=None, change_json=None):
+    import shutil
+    shutil.copytree(src, dst)
+    if change_csv:
+        lines = (dst / "flights.csv").read_text().splitlines()
+        (dst / "flights.csv").write_text("\n".join(change_csv(lines)) + "\n")
+    if change_json:
+        j = json.loads((dst / "dataset.json").read_text())
+        change_json(j)
+        (dst / "dataset.json").write_text(json.dumps(j))
+    return dst / "dataset.json"
+
+
+def _cells(line):
+    return line.split(",")
+
+
+def _scale_column(lines, col, k):
+    out = [lines[0]]
+    for line in lines[1:]:
+        c = _cells(line)
+        c[col] = repr(float(c[col]) * k)
+        out.append(",".join(c))
+    return out
+
+
+def _stray_point(lines):
+    """The first flight's last point moved 10 s later."""
+    first = _cells(lines[1])[0]
+    last = max(i for i, line in enumerate(lines) if i > 0 and _cells(line)[0] == first)
+    c = _cells(lines[last])
+    c[2] = repr(float(c[2]) + 10.0)
+    return lines[:last] + [",".join(c)] + lines[last + 1:]
+
+
+@pytest.mark.parametrize("name, csv_change, json_change, words", [
+    ("milliseconds", lambda ls: _scale_column(ls, 2, 1000.0), None, "times are in seconds"),
+    ("stray point", _stray_point, None, "stray point"),
+    ("millimetres", lambda ls: _scale_column(ls, 3, 1.0e6), None, "positions are in metres"),
+    ("noise in millimetres", None, lambda j: j.update(tracking_sigma_m=20.0), "tracking_sigma_m is 20 m"),
+])
+def test_a_dataset_in_the_wrong_units_is_refused_at_once(tmp_path, dataset, name, csv_change, json_change, words):
+    ds = _rewrite(dataset, tmp_path / "d", csv_change, json_change)
+    out = tmp_path / "o.json"
+    r = run(["diagnose", ds, "--json", out] + QUICK)
+    assert r.returncode == 2 and words in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_a_byte_order_mark_is_read_and_a_missing_noise_is_said(tmp_path, dataset):
+    def bom(lines):
+        return ["\ufeff" + lines[0]] + lines[1:]
+    ds = _rewrite(dataset, tmp_path / "d", bom, lambda j: j.pop("tracking_sigma_m"))
+    assert (tmp_path / "d" / "flights.csv").read_bytes().startswith(b"\xef\xbb\xbf")
+    r = run(["diagnose", ds, "--json", tmp_path / "o.json"] + QUICK[:-1])
+    assert r.returncode == 0, r.stderr
+    assert "gives no tracking_sigma_m; 0.05 m is assumed" in r.stderr
+    # the same as with 0.05 m given (and without the mark)
+    given = _rewrite(dataset, tmp_path / "g", None, lambda j: j.update(tracking_sigma_m=0.05))
+    r = run(["diagnose", given, "--json", tmp_path / "g.json"] + QUICK[:-1])
+    assert r.returncode == 0 and "assumed" not in r.stderr, r.stderr
+    assert load(tmp_path / "o.json")["baseline"]["noise_rmse_m"] == load(tmp_path / "g.json")["baseline"]["noise_rmse_m"]
+
+
+def test_more_folds_than_gliders_are_said_as_run(dataset, tmp_path):
+    r = run(["diagnose", dataset / "dataset.json", "--json", tmp_path / "o.json"] + QUICK[:-1] + ["--folds", "100"])
+    assert r.returncode == 0, r.stderr
+    assert "3 folds (at most one per glider; 100 asked)" in r.stderr
+    assert load(tmp_path / "o.json")["cross_validation"]["folds"] == 3
+
+
+def test_python_call_takes_an_effect_string_and_refuses_text_for_a_number(dataset):
+    import pteromys
+    r = pteromys.diagnose(str(dataset / "dataset.json"), folds=3, effects="wind, camera", max_centres=2,
+                          full_fit=False, profile=False, iterations=2, threads=1)
+    assert sorted(e["name"] for e in r["effects"]) == ["camera", "wind"]
+    with pytest.raises(Exception) as e:
+        pteromys.diagnose(str(dataset / "dataset.json"), folds="3")
+    assert "folds must be a number" in str(e.value) and "'3'" in str(e.value)
+    assert pteromys.report_dir_problem(str(dataset)) != ""
+    assert pteromys.report_dir_problem(str(dataset / "no-such-dir")) == ""
+
+
+def test_ctrl_c_stops_a_python_diagnosis_at_the_next_progress_report(dataset, tmp_path):
+    """SIGINT a second into a diagnosis of several seconds: KeyboardInterrupt
+    comes from inside the engine (the run never reports "done"), not after
+    the whole diagnosis as before."""
+    script = tmp_path / "run.py"
+    script.write_text(textwrap.dedent("""
+        import sys, pteromys
+        stages = []
+        def progress(p):
+            if not stages:
+                print("STARTED", flush=True)
+            stages.append(p["stage"])
+        try:
+            pteromys.diagnose(sys.argv[1], folds=3, max_centres=3, threads=1, progress=progress)
+            print("FINISHED", stages[-1])
+        except KeyboardInterrupt:
+            print("INTERRUPTED", "done" in stages, len(stages))
+    """))
+    env = dict(os.environ, PYTHONPATH=os.path.join(BUILD, "python"))
+    p = subprocess.Popen(["/usr/bin/python3", str(script), str(dataset / "dataset.json")], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=env)
+    first = p.stdout.readline()  # the engine has started: its first progress report
+    assert first.strip() == "STARTED", (first, p.stderr.read() if p.poll() is not None else "")
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=300)
+    assert out.startswith("INTERRUPTED False"), (out, err)
