@@ -86,23 +86,39 @@ std::string quote(const std::string& s) {
 /// Renders the report (HTML and PNG plots, pteromys.diagnose_report under
 /// Debian's Python) into a temporary directory beside `dir` and renames it
 /// into place; nothing is left behind on failure.
-void write_report(const std::string& json_path, const std::string& dir, bool quiet) {
-  const std::string tmp = dir + ".tmp-" + std::to_string(getpid());
-  std::error_code ec;
-  std::filesystem::remove_all(tmp, ec);
-  if (mkdir(tmp.c_str(), 0777) != 0) throw InputError("cannot create directory '" + tmp + "'");
+/// Debian's python3 with the pteromys package next to this executable on
+/// its path, the Agg backend: the start of the report's command line.
+std::string report_python() {
   std::string env;
   const std::string py = python_dir();
   if (!py.empty()) {
     const char* old = std::getenv("PYTHONPATH");
     env = "PYTHONPATH=" + quote(py + (old && *old ? std::string(":") + old : std::string())) + " ";
   }
-  const std::string cmd = env + "MPLBACKEND=Agg /usr/bin/python3 -m pteromys.diagnose_report " + quote(json_path) +
-                          " " + quote(tmp) + (quiet ? " --quiet" : "") + " 1>&2";
+  return env + "MPLBACKEND=Agg /usr/bin/python3";
+}
+
+/// Before a diagnosis that may take hours: whether the report can be
+/// rendered at all (python3 with matplotlib and pteromys.diagnose_report).
+void check_report_renderer(const std::string& dir) {
+  const std::string cmd = report_python() + " -c 'import matplotlib.pyplot, pteromys.diagnose_report' >/dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0)
+    throw InputError("cannot write report '" + dir + "': /usr/bin/python3 cannot import matplotlib and "
+                     "pteromys.diagnose_report, which render it (scripts/setup.sh installs them); run without "
+                     "--report, or fix that first");
+}
+
+void write_report(const std::string& json_path, const std::string& dir, bool quiet) {
+  const std::string tmp = dir + ".tmp-" + std::to_string(getpid());
+  std::error_code ec;
+  std::filesystem::remove_all(tmp, ec);
+  if (mkdir(tmp.c_str(), 0777) != 0) throw InputError("cannot create directory '" + tmp + "'");
+  const std::string cmd = report_python() + " -m pteromys.diagnose_report " + quote(json_path) + " " + quote(tmp) +
+                          (quiet ? " --quiet" : "") + " 1>&2";
   const int rc = std::system(cmd.c_str());
   if (rc != 0 || !exists(tmp + "/index.html")) {
     std::filesystem::remove_all(tmp, ec);
-    throw std::runtime_error("the report could not be rendered (python3 -m pteromys.diagnose_report failed; "
+    throw InputError("the report could not be rendered (python3 -m pteromys.diagnose_report failed; "
                              "matplotlib and the pteromys module are needed)");
   }
   if (const std::string why = report_dir_problem(dir); !why.empty()) {
@@ -146,9 +162,15 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.positional.size() > 1) throw InputError("unexpected argument '" + a.positional[1] + "'");
   if (!a.has("--json") && !a.has("--report")) throw InputError("missing --json OUT.json (see --help)");
   if (a.has("--json")) check_writable(a.get("--json"), "diagnosis");
+  // "rep/" (as completion gives it) names the directory rep: the report is
+  // made beside it, in rep.tmp-PID, not inside it
+  std::string report_dir = a.get("--report");
+  while (report_dir.size() > 1 && report_dir.back() == '/') report_dir.pop_back();
   if (a.has("--report")) {
-    const std::string r = a.get("--report");
+    const std::string r = report_dir;
     if (r.empty()) throw InputError("--report needs a directory");
+    if (r == "/" || r == "." || r == "..")
+      throw InputError("cannot write report '" + r + "': a report replaces its directory; name a new one");
     const auto parent = std::filesystem::path(r).parent_path();
     if (!parent.empty() && !std::filesystem::is_directory(parent))
       throw InputError("cannot write report '" + r + "': directory '" + parent.string() + "' does not exist");
@@ -158,6 +180,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
     if (access((parent.empty() ? std::string(".") : parent.string()).c_str(), W_OK | X_OK) != 0)
       throw InputError("cannot write report '" + r + "': directory '" + (parent.empty() ? std::string(".") : parent.string()) +
                        "' is not writable");
+    check_report_renderer(r);
   }
 
   DiagnoseOptions o;
@@ -267,20 +290,30 @@ int run_diagnose(const std::vector<std::string>& argv) {
   j["dataset"]["path"] = path;
   j["pteromys_version"] = kVersion;
   const std::string text = j.dump(1) + "\n";
-  // The report first (from a scratch copy of the result), then the result:
-  // a report that fails leaves no result file either.
-  if (a.has("--report")) {
-    const std::string scratch = a.get("--report") + ".json.tmp-" + std::to_string(getpid());
-    write_file_atomic(scratch, text);
-    try {
-      write_report(scratch, a.get("--report"), quiet);
-    } catch (...) {
-      std::remove(scratch.c_str());
-      throw;
-    }
-    std::remove(scratch.c_str());
-  }
+  // The result first: a report that fails (its renderer was checked before
+  // the run) then leaves the complete result of a run that may have taken
+  // hours, and says so.
   if (a.has("--json")) write_file_atomic(a.get("--json"), text);
+  if (a.has("--report")) {
+    std::string src = a.get("--json");
+    std::string scratch;
+    // rendered from the result file, or from a scratch copy of it (deleted
+    // by the signal handlers too)
+    struct stat st {};
+    if (src.empty() || own_descriptor(src) >= 0 || stat(src.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) {
+      scratch = temp_path_for(report_dir + ".json");
+      write_file_atomic(scratch, text);
+      src = scratch;
+    }
+    try {
+      write_report(src, report_dir, quiet);
+    } catch (const std::exception& e) {
+      if (!scratch.empty()) discard_temp_file(scratch);
+      if (!a.has("--json")) throw;
+      throw InputError(std::string(e.what()) + "; the diagnosis result is in '" + a.get("--json") + "'");
+    }
+    if (!scratch.empty()) discard_temp_file(scratch);
+  }
   if (!quiet) {
     std::cout << "verdict: " << r.verdict << "\n" << r.summary << (st ? " " + st->sentence : std::string()) << "\n";
     std::cout << "baseline: fit RMSE " << r.fit_rmse_m << " m, held-out RMSE " << r.holdout_rmse_m << " m (noise alone "
@@ -288,7 +321,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
     for (const auto& e : r.effects)
       std::printf("  %-16s held-out %.4f m  shrink %6.1f %%  %s\n", e.name.c_str(), e.holdout_rmse_m, 100 * e.shrink,
                   e.significant ? "significant" : "");
-    if (a.has("--report")) std::cout << "report: " << a.get("--report") << "/index.html\n";
+    if (a.has("--report")) std::cout << "report: " << report_dir << "/index.html\n";
   }
   return 0;
 }

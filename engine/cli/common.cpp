@@ -60,6 +60,7 @@ std::string summary_text(const Flyability& f) {
 
 void check_writable(const std::string& path, const std::string& what) {
   if (path.empty()) throw InputError("cannot write " + what + ": no file name given (an empty path)");
+  if (own_descriptor(path) >= 0) return;  // /dev/stdout: written into, wherever it goes
   struct stat st {};
   if (stat(path.c_str(), &st) == 0) {
     if (S_ISDIR(st.st_mode)) throw InputError("cannot write " + what + " '" + path + "': it is a directory");

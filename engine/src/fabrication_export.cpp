@@ -24,6 +24,7 @@ nlohmann::json export_glider(const Glider& g, const ExportRequest& r) {
   std::vector<std::pair<std::string, std::string>> done;
   // Messages name the file the user asked for, not the temporary one.
   auto user_message = [](std::string m, const std::string& tmp, const std::string& final_path) {
+    if (tmp.empty()) return m;  // no temporary file yet (temp_path_for refused the path)
     for (std::size_t at; (at = m.find(tmp)) != std::string::npos;) m.replace(at, tmp.size(), final_path);
     return m;
   };
@@ -38,6 +39,7 @@ nlohmann::json export_glider(const Glider& g, const ExportRequest& r) {
       current_final = r.dxf_path;
       write_dxf(s, layout, tmp);
       done.emplace_back(tmp, r.dxf_path);
+      current_tmp.clear();
     }
     if (!r.step_path.empty()) {
       const std::string tmp = temp_path_for(r.step_path, ".step");

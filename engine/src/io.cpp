@@ -119,8 +119,34 @@ extern "C" void remove_temps_and_reraise(int sig) {
 
 }  // namespace
 
+int own_descriptor(const std::string& path) {
+  const std::string self = "/proc/" + std::to_string(::getpid()) + "/fd/";
+  std::string p = path;
+  for (int hop = 0; hop < 40; ++hop) {
+    for (const std::string& pre : {std::string("/proc/self/fd/"), std::string("/dev/fd/"), self})
+      if (p.size() > pre.size() && p.compare(0, pre.size(), pre) == 0 &&
+          p.find_first_not_of("0123456789", pre.size()) == std::string::npos && p.size() - pre.size() < 9)
+        return std::stoi(p.substr(pre.size()));
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return -1;
+    std::string target(4096, '\0');
+    const ssize_t n = ::readlink(p.c_str(), target.data(), target.size());
+    if (n <= 0) return -1;
+    target.resize(static_cast<std::size_t>(n));
+    if (target[0] != '/') {
+      const auto slash = p.find_last_of('/');
+      if (slash != std::string::npos) target = p.substr(0, slash + 1) + target;
+    }
+    p = target;
+  }
+  return -1;
+}
+
 std::string output_target(const std::string& path) {
   if (path.empty()) throw InputError("no output file name given (an empty path)");
+  if (own_descriptor(path) >= 0)
+    throw InputError("cannot write '" + path + "': it is one of this process's open files (standard output?), and "
+                     "this output is written as a new file renamed into place; name a file");
   struct stat st {};
   // A device, pipe or socket (followed through links: /dev/stdout) is not
   // a file that can be replaced by a rename.
@@ -191,14 +217,21 @@ void remove_temp_files_on_signal() {
 }
 
 void commit_temp_file(const std::string& tmp, const std::string& path, const std::string& trailer) {
-  // the file a link points to is replaced, not the link (temp_path_for put
-  // tmp beside it)
-  const std::string target = output_target(path);
   auto fail = [&](const std::string& why) {
     std::remove(tmp.c_str());
     unregister_temp(tmp);
     throw InputError("cannot write '" + path + "': " + why + "; the old file, if any, is unchanged");
   };
+  // the file a link points to is replaced, not the link (temp_path_for put
+  // tmp beside it)
+  std::string target;
+  try {
+    target = output_target(path);
+  } catch (const InputError&) {
+    std::remove(tmp.c_str());
+    unregister_temp(tmp);
+    throw;
+  }
   const int fd = ::open(tmp.c_str(), O_RDWR);
   if (fd < 0) fail(errno_text(errno));
   struct stat st {};
@@ -242,24 +275,36 @@ bool rename_temp_into_place(const std::string& tmp, const std::string& path) {
   return ok;
 }
 
+void discard_temp_file(const std::string& tmp) {
+  std::remove(tmp.c_str());
+  unregister_temp(tmp);
+}
+
 namespace {
-// Writes text into an existing device, pipe or socket (/dev/stdout,
-// /dev/null, a named pipe), as a shell redirection would: it cannot be
-// replaced by a rename, and a person naming one means "write into it".
-void write_into_special_file(const std::string& path, const std::string& text) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  if (fd < 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
+// Writes all of text to the open descriptor fd (`path` names it in messages).
+void write_all(int fd, const std::string& path, const std::string& text) {
   std::size_t done = 0;
   while (done < text.size()) {
     const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
     if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) {
-      const int e = w < 0 ? errno : ENOSPC;
-      ::close(fd);
+    if (w <= 0)
       throw InputError("cannot write '" + path + "': write failed after " + std::to_string(done) + " of " +
-                       std::to_string(text.size()) + " bytes (" + errno_text(e) + ")");
-    }
+                       std::to_string(text.size()) + " bytes (" + errno_text(w < 0 ? errno : ENOSPC) + ")");
     done += static_cast<std::size_t>(w);
+  }
+}
+
+// Writes text into an existing device, pipe or socket (/dev/null, a named
+// pipe), as a shell redirection would: it cannot be replaced by a rename,
+// and a person naming one means "write into it".
+void write_into_special_file(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
+  try {
+    write_all(fd, path, text);
+  } catch (...) {
+    ::close(fd);
+    throw;
   }
   if (::close(fd) != 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
 }
@@ -267,6 +312,13 @@ void write_into_special_file(const std::string& path, const std::string& text) {
 
 void write_file_atomic(const std::string& path, const std::string& text) {
   if (path.empty()) throw InputError("no output file name given (an empty path)");
+  // /dev/stdout, /dev/fd/N: written to the open file itself, at its offset
+  // (appending under >>), as a shell redirection would; reopening or
+  // renaming over what it points to would destroy a redirected file.
+  if (const int own = own_descriptor(path); own >= 0) {
+    write_all(own, path, text);
+    return;
+  }
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
     write_into_special_file(path, text);

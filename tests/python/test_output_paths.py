@@ -91,19 +91,26 @@ def test_an_earlier_report_or_an_empty_directory_is_replaced(tmp_path, dataset):
     assert [f for f in os.listdir(tmp_path) if ".tmp" in f or ".old" in f] == []
 
 
-def test_a_report_that_fails_leaves_no_result_file(tmp_path, dataset):
-    """The report is rendered by Debian's python3 -m pteromys.diagnose_report;
-    a PYTHONHOME where no Python lives makes that interpreter fail to start
-    (the command itself is C++ and does not care)."""
+def test_a_report_that_cannot_be_rendered_is_refused_before_the_work(tmp_path, dataset):
+    """The report is rendered by Debian's python3 with matplotlib; a
+    PYTHONHOME where no Python lives makes that interpreter fail to start
+    (the command itself is C++ and does not care): refused before the
+    diagnosis runs, rather than after a run of hours."""
     env = dict(os.environ, PYTHONHOME=str(tmp_path / "no-python-here"))
     out = tmp_path / "o.json"
-    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", tmp_path / "rep"] + QUICK, env=env)
-    if r.returncode == 0:
-        pytest.fail("the report did not fail under a PYTHONHOME without Python, so this test cannot check what a "
-                    "failed report leaves")
-    assert "the report could not be rendered" in r.stderr, r.stderr
-    assert not out.exists() and not (tmp_path / "rep").exists()
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", tmp_path / "rep"] + QUICK[:-1], env=env)
+    assert r.returncode == 2 and "cannot import matplotlib" in r.stderr, r.stderr
+    assert "flights of" not in r.stderr  # before the dataset was read
     assert os.listdir(tmp_path) == []
+
+
+def test_a_report_directory_given_with_a_trailing_slash_is_that_directory(tmp_path, dataset):
+    rep = tmp_path / "rep"
+    rep.mkdir()
+    r = run(["diagnose", dataset / "dataset.json", "--json", tmp_path / "o.json", "--report", str(rep) + "/"] + QUICK)
+    assert r.returncode == 0, r.stderr
+    assert "index.html" in os.listdir(rep) and not [f for f in os.listdir(rep) if "tmp" in f]
+    assert sorted(os.listdir(tmp_path)) == ["o.json", "rep"]
 
 
 def test_an_empty_or_impossible_json_path_is_refused_before_the_work(tmp_path, dataset):
@@ -178,10 +185,33 @@ def test_a_pipe_is_written_into_not_replaced(tmp_path, dataset):
     assert json.loads(got["bytes"])["format"] == "pteromys-diagnosis/1"
 
 
-def test_standard_output_can_take_the_result(dataset):
+def test_standard_output_can_take_the_result(dataset, tmp_path):
     r = run(["diagnose", dataset / "dataset.json", "--json", "/dev/stdout"] + QUICK)
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["format"] == "pteromys-diagnosis/1"
+    # standard output redirected to a file (>> log): the result is appended
+    # to it, as a shell redirection would, not renamed over it
+    log = tmp_path / "log.txt"
+    log.write_text("PRIOR\n")
+    with open(log, "a") as f:
+        p = subprocess.run([os.path.join(BUILD, "bin", "pteromys"), "diagnose", str(dataset / "dataset.json"),
+                            "--json", "/dev/stdout"] + QUICK, stdout=f, stderr=subprocess.PIPE, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    text = log.read_text()
+    assert text.startswith("PRIOR\n") and json.loads(text[len("PRIOR\n"):])["format"] == "pteromys-diagnosis/1"
+    # and /dev/null stays the device it was
+    r = run(["diagnose", dataset / "dataset.json", "--json", "/dev/null"] + QUICK)
+    assert r.returncode == 0 and stat.S_ISCHR(os.stat("/dev/null").st_mode), r.stderr
+
+
+def test_an_export_to_a_device_is_refused_by_name(tmp_path):
+    """DXF and STEP are written by libraries into a new file that is renamed
+    into place, which would replace a device: refused, at once (it hung)."""
+    glider = os.path.join(ROOT, "examples", "training", "t01-rectangular.glider.json")
+    for opt in ("--dxf", "--step"):
+        r = subprocess.run([os.path.join(BUILD, "bin", "pteromys"), "export", glider, opt, "/dev/null", "--quiet"],
+                           capture_output=True, text=True, timeout=60)
+        assert r.returncode == 2 and "not a regular file" in r.stderr, (opt, r.stderr)
     assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
 
 

@@ -48,15 +48,26 @@ std::string trajectories_csv(const Flyability& f);
 /// failure (a full disk, a file size limit, a kill) leaves the old file or the
 /// new one, never a fragment. Every write is checked, the data is flushed to
 /// disk (fsync) before the rename. A symbolic link is written through (its
-/// target replaced); an existing device, pipe or socket (/dev/stdout, a
-/// named pipe) is written into, as a shell redirection would. Throws
+/// target replaced); an existing device, pipe or socket (/dev/null, a named
+/// pipe) and an open file of this process (/dev/stdout, at its offset) are
+/// written into, as a shell redirection would. Throws
 /// InputError on failure (an empty path among them).
 void write_file_atomic(const std::string& path, const std::string& text);
+
+/// The open descriptor of this process that `path` names (/dev/stdout,
+/// /dev/fd/N, /proc/self/fd/N, directly or through links), or -1.
+/// write_file_atomic writes to it in place, as a shell redirection would.
+int own_descriptor(const std::string& path);
+
+/// Removes a temporary file from temp_path_for that will not be committed
+/// (and forgets it for the signal handlers).
+void discard_temp_file(const std::string& tmp);
 
 /// Where a write to `path` lands: `path` with its symbolic links followed
 /// (the file a link points to is replaced, the link stays). Throws
 /// InputError naming `path` when it is empty, a directory, a device, pipe or
-/// socket (which a rename would replace), or a loop of links.
+/// socket (which a rename would replace), one of this process's open files
+/// (own_descriptor), or a loop of links.
 std::string output_target(const std::string& path);
 
 /// Why the directory `dir` may not be replaced by a diagnosis report
