@@ -145,10 +145,12 @@ void bind_fit(py::module_& m) {
           else throw InputError("model must be an RBF or flat-plate model");
         }
         const Dataset d = load_dataset(dataset);
-        FitCallback cb;
-        if (!progress.is_none())
-          cb = [progress](const FitProgress& p) {
+        // Every progress report also lets Python handle its signals: Ctrl-C
+        // (KeyboardInterrupt) stops the fit there instead of at its end.
+        const FitCallback cb = [progress](const FitProgress& p) {
             py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            if (progress.is_none()) return;
             py::dict d;
             d["stage"] = p.stage;
             d["centres"] = p.centres;

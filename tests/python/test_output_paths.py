@@ -298,10 +298,14 @@ def test_python_call_takes_an_effect_string_and_refuses_text_for_a_number(datase
     assert pteromys.report_dir_problem(str(dataset / "no-such-dir")) == ""
 
 
-def test_ctrl_c_stops_a_python_diagnosis_at_the_next_progress_report(dataset, tmp_path):
-    """SIGINT a second into a diagnosis of several seconds: KeyboardInterrupt
-    comes from inside the engine (the run never reports "done"), not after
-    the whole diagnosis as before."""
+@pytest.mark.parametrize("call", [
+    "pteromys.diagnose(sys.argv[1], folds=3, max_centres=3, threads=1, progress=progress)",
+    "pteromys.fit(sys.argv[1], max_centres=6, threads=1, progress=progress)",
+], ids=["diagnose", "fit"])
+def test_ctrl_c_stops_a_python_run_at_the_next_progress_report(dataset, tmp_path, call):
+    """SIGINT once the engine has reported progress: KeyboardInterrupt comes
+    from inside the engine (the run never reports "done"), not after the
+    whole run as before."""
     script = tmp_path / "run.py"
     script.write_text(textwrap.dedent("""
         import sys, pteromys
@@ -311,11 +315,11 @@ def test_ctrl_c_stops_a_python_diagnosis_at_the_next_progress_report(dataset, tm
                 print("STARTED", flush=True)
             stages.append(p["stage"])
         try:
-            pteromys.diagnose(sys.argv[1], folds=3, max_centres=3, threads=1, progress=progress)
+            %s
             print("FINISHED", stages[-1])
         except KeyboardInterrupt:
             print("INTERRUPTED", "done" in stages, len(stages))
-    """))
+    """) % call)
     env = dict(os.environ, PYTHONPATH=os.path.join(BUILD, "python"))
     p = subprocess.Popen(["/usr/bin/python3", str(script), str(dataset / "dataset.json")], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, env=env)
