@@ -332,20 +332,13 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     throw InputError("cannot write '" + path + "': " +
                      (e == ENOENT || e == ENOTDIR ? std::string("directory missing or not writable") : errno_text(e)));
   }
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t w = ::write(fd, text.data() + done, text.size() - done);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) {
-      const int e = w < 0 ? errno : ENOSPC;
-      ::close(fd);
-      std::remove(tmp.c_str());
-      unregister_temp(tmp);
-      throw InputError("cannot write '" + path + "': write failed after " + std::to_string(done) + " of " +
-                       std::to_string(text.size()) + " bytes (" + errno_text(e) +
-                       "); the old file, if any, is unchanged");
-    }
-    done += static_cast<std::size_t>(w);
+  try {
+    write_all(fd, path, text);
+  } catch (const InputError& e) {
+    ::close(fd);
+    std::remove(tmp.c_str());
+    unregister_temp(tmp);
+    throw InputError(std::string(e.what()) + "; the old file, if any, is unchanged");
   }
   if (::close(fd) != 0) {
     const int e = errno;
