@@ -76,13 +76,15 @@ void check_writable(const std::string& path, const std::string& what) {
   const std::string target = output_target(path);  // (a loop of links: its own message)
   const auto slash = target.find_last_of('/');
   const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : target.substr(0, slash));
+  // a symbolic link's target is where the file goes: say so
+  const std::string via = target == path ? std::string() : " (where the symbolic link points: '" + target + "')";
   if (stat(dir.c_str(), &st) != 0)
     throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' " +
-                     (errno == EACCES ? "cannot be reached (permission denied)" : "does not exist"));
+                     (errno == EACCES ? "cannot be reached (permission denied)" : "does not exist") + via);
   if (!S_ISDIR(st.st_mode))
-    throw InputError("cannot write " + what + " '" + path + "': '" + dir + "' is not a directory");
+    throw InputError("cannot write " + what + " '" + path + "': '" + dir + "' is not a directory" + via);
   if (access(dir.c_str(), W_OK | X_OK) != 0)
-    throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' is not writable");
+    throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' is not writable" + via);
 }
 
 }  // namespace pteromys::cli

@@ -168,6 +168,14 @@ def test_a_symbolic_link_is_written_through(tmp_path, dataset):
     assert load(tmp_path / "target" / "real.json")["format"] == "pteromys-diagnosis/1"
 
 
+def test_a_link_into_a_missing_directory_names_where_it_points(tmp_path, dataset):
+    os.symlink("nodir/real.json", tmp_path / "dangling.json")
+    r = run(["diagnose", dataset / "dataset.json", "--json", tmp_path / "dangling.json"] + QUICK)
+    assert r.returncode == 2, r.stderr
+    assert "does not exist (where the symbolic link points: '%s')" % (tmp_path / "nodir" / "real.json") in r.stderr
+    assert os.path.islink(tmp_path / "dangling.json") and sorted(os.listdir(tmp_path)) == ["dangling.json"]
+
+
 def test_a_pipe_is_written_into_not_replaced(tmp_path, dataset):
     fifo = tmp_path / "pipe"
     os.mkfifo(fifo)
