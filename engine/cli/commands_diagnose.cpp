@@ -171,15 +171,15 @@ int run_diagnose(const std::vector<std::string>& argv) {
     if (r.empty()) throw InputError("--report needs a directory");
     if (r == "/" || r == "." || r == "..")
       throw InputError("cannot write report '" + r + "': a report replaces its directory; name a new one");
-    const auto parent = std::filesystem::path(r).parent_path();
-    if (!parent.empty() && !std::filesystem::is_directory(parent))
-      throw InputError("cannot write report '" + r + "': directory '" + parent.string() + "' does not exist");
+    const auto p = std::filesystem::path(r).parent_path();
+    const std::string parent = p.empty() ? std::string(".") : p.string();
+    if (!std::filesystem::is_directory(parent))
+      throw InputError("cannot write report '" + r + "': directory '" + parent + "' does not exist");
     if (const std::string why = report_dir_problem(r); !why.empty())
       throw InputError("cannot write report '" + r + "': " + why);
     // the report is made beside it and renamed into place
-    if (access((parent.empty() ? std::string(".") : parent.string()).c_str(), W_OK | X_OK) != 0)
-      throw InputError("cannot write report '" + r + "': directory '" + (parent.empty() ? std::string(".") : parent.string()) +
-                       "' is not writable");
+    if (access(parent.c_str(), W_OK | X_OK) != 0)
+      throw InputError("cannot write report '" + r + "': directory '" + parent + "' is not writable");
     check_report_renderer(r);
   }
 

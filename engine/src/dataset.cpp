@@ -178,14 +178,10 @@ Dataset load_dataset(const std::string& path) {
   d.flights_csv = j["flights_csv"].get<std::string>();
   d.frame_rate_hz = num("frame_rate_hz", 30.0, j, "");
   d.tracking_sigma_m = num("tracking_sigma_m", 0.05, j, "");
-  if (j.contains("air")) {
-    if (!j["air"].is_object()) fail("air must be an object");
-    d.air_density = num("density_kg_m3", 1.2, j["air"], "air.");
-    d.air_viscosity = num("viscosity_pa_s", 1.8e-5, j["air"], "air.");
-  } else {
-    d.defaulted.push_back("air.density_kg_m3");
-    d.defaulted.push_back("air.viscosity_pa_s");
-  }
+  if (j.contains("air") && !j["air"].is_object()) fail("air must be an object");
+  const json air = j.contains("air") ? j["air"] : json::object();  // left out: both defaulted
+  d.air_density = num("density_kg_m3", 1.2, air, "air.");
+  d.air_viscosity = num("viscosity_pa_s", 1.8e-5, air, "air.");
   d.gravity = num("gravity_m_s2", 9.81, j, "");
 
   const std::string csv_path = join(dir, d.flights_csv);

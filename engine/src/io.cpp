@@ -119,26 +119,31 @@ extern "C" void remove_temps_and_reraise(int sig) {
 
 }  // namespace
 
+namespace {
+// Where the symbolic link `p` points (a relative target joined to p's
+// directory), or "" when p is not a readable link.
+std::string link_target(const std::string& p) {
+  struct stat st {};
+  if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return "";
+  std::string target(4096, '\0');
+  const ssize_t n = ::readlink(p.c_str(), target.data(), target.size());
+  if (n <= 0) return "";
+  target.resize(static_cast<std::size_t>(n));
+  const auto slash = p.find_last_of('/');
+  if (target[0] != '/' && slash != std::string::npos) target = p.substr(0, slash + 1) + target;
+  return target;
+}
+constexpr int kMaxLinkHops = 40;  // as the kernel's ELOOP limit
+}  // namespace
+
 int own_descriptor(const std::string& path) {
   const std::string self = "/proc/" + std::to_string(::getpid()) + "/fd/";
   std::string p = path;
-  for (int hop = 0; hop < 40; ++hop) {
+  for (int hop = 0; hop < kMaxLinkHops && !p.empty(); ++hop, p = link_target(p))
     for (const std::string& pre : {std::string("/proc/self/fd/"), std::string("/dev/fd/"), self})
       if (p.size() > pre.size() && p.compare(0, pre.size(), pre) == 0 &&
           p.find_first_not_of("0123456789", pre.size()) == std::string::npos && p.size() - pre.size() < 9)
         return std::stoi(p.substr(pre.size()));
-    struct stat st {};
-    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return -1;
-    std::string target(4096, '\0');
-    const ssize_t n = ::readlink(p.c_str(), target.data(), target.size());
-    if (n <= 0) return -1;
-    target.resize(static_cast<std::size_t>(n));
-    if (target[0] != '/') {
-      const auto slash = p.find_last_of('/');
-      if (slash != std::string::npos) target = p.substr(0, slash + 1) + target;
-    }
-    p = target;
-  }
   return -1;
 }
 
@@ -154,21 +159,14 @@ std::string output_target(const std::string& path) {
     throw InputError("cannot write '" + path + "': it is not a regular file (a device, pipe or socket), and this "
                      "output is written as a new file renamed into place, which would replace it");
   std::string p = path;
-  for (int hop = 0; hop < 40; ++hop) {
-    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) {
+  for (int hop = 0; hop < kMaxLinkHops; ++hop) {
+    const std::string next = link_target(p);
+    if (next.empty()) {
       if (::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
         throw InputError("cannot write '" + path + "': it is a directory");
       return p;
     }
-    std::string target(4096, '\0');
-    const ssize_t n = ::readlink(p.c_str(), target.data(), target.size());
-    if (n <= 0) return p;
-    target.resize(static_cast<std::size_t>(n));
-    if (target[0] != '/') {
-      const auto slash = p.find_last_of('/');
-      if (slash != std::string::npos) target = p.substr(0, slash + 1) + target;
-    }
-    p = target;
+    p = next;
   }
   throw InputError("cannot write '" + path + "': too many levels of symbolic links");
 }
@@ -212,14 +210,18 @@ std::string temp_path_for(const std::string& path, const std::string& suffix) {
   return tmp;
 }
 
+void discard_temp_file(const std::string& tmp) {
+  std::remove(tmp.c_str());
+  unregister_temp(tmp);
+}
+
 void remove_temp_files_on_signal() {
   for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) ::signal(sig, remove_temps_and_reraise);
 }
 
 void commit_temp_file(const std::string& tmp, const std::string& path, const std::string& trailer) {
   auto fail = [&](const std::string& why) {
-    std::remove(tmp.c_str());
-    unregister_temp(tmp);
+    discard_temp_file(tmp);
     throw InputError("cannot write '" + path + "': " + why + "; the old file, if any, is unchanged");
   };
   // the file a link points to is replaced, not the link (temp_path_for put
@@ -228,8 +230,7 @@ void commit_temp_file(const std::string& tmp, const std::string& path, const std
   try {
     target = output_target(path);
   } catch (const InputError&) {
-    std::remove(tmp.c_str());
-    unregister_temp(tmp);
+    discard_temp_file(tmp);
     throw;
   }
   const int fd = ::open(tmp.c_str(), O_RDWR);
@@ -273,11 +274,6 @@ bool rename_temp_into_place(const std::string& tmp, const std::string& path) {
     fsync_dir_of(target);
   }
   return ok;
-}
-
-void discard_temp_file(const std::string& tmp) {
-  std::remove(tmp.c_str());
-  unregister_temp(tmp);
 }
 
 namespace {
@@ -336,8 +332,7 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     write_all(fd, path, text);
   } catch (const InputError& e) {
     ::close(fd);
-    std::remove(tmp.c_str());
-    unregister_temp(tmp);
+    discard_temp_file(tmp);
     throw InputError(std::string(e.what()) + "; the old file, if any, is unchanged");
   }
   if (::close(fd) != 0) {

@@ -48,11 +48,13 @@ def run_diagnosis(dataset, report_dir=None, progress=None, **options):
     parent = os.path.dirname(report_dir)
     if not os.path.isdir(parent):
         raise ValueError("the report's folder %s does not exist" % parent)
-    # The report replaces the whole directory: refuse, before the run, one
-    # that holds anything but an earlier report (the dataset, a person's files).
-    why = pt.report_dir_problem(report_dir)
-    if why:
-        raise ValueError("cannot write the report into %s: %s" % (report_dir, why))
+    def refuse_foreign_dir():
+        # The report replaces the whole directory: not one that holds
+        # anything but an earlier report (the dataset, a person's files).
+        why = pt.report_dir_problem(report_dir)
+        if why:
+            raise ValueError("cannot write the report into %s: %s" % (report_dir, why))
+    refuse_foreign_dir()  # before the run
     if not os.access(parent, os.W_OK | os.X_OK):
         raise ValueError("cannot write the report into %s: its folder %s is not writable" % (report_dir, parent))
     result = pt.diagnose(dataset, progress=progress, **options)
@@ -62,9 +64,7 @@ def run_diagnosis(dataset, report_dir=None, progress=None, **options):
             json.dump(result, f, indent=1)
         pt.diagnosis_report(result, tmp)
         old = None
-        why = pt.report_dir_problem(report_dir)  # again: it may have changed during the run
-        if why:
-            raise ValueError("cannot write the report into %s: %s" % (report_dir, why))
+        refuse_foreign_dir()  # again: it may have changed during the run
         if os.path.exists(report_dir):
             old = report_dir + ".old-%d" % os.getpid()
             os.replace(report_dir, old)
