@@ -1,5 +1,7 @@
 // pteromys diagnose: where and why the simulation and tracked flights
 // disagree (issue 7; spec/formats.md "Diagnosis result"; docs/diagnosis.md).
+#include <fcntl.h>
+#include <stdio.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -74,70 +76,90 @@ std::string python_dir() {
   return "";
 }
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) {
-    if (c == '\'') q += "'\\''";
-    else q += c;
+/// The environment of the report's renderer: this process's, with the
+/// pteromys package next to this executable first on PYTHONPATH and
+/// matplotlib's Agg backend.
+std::vector<std::string> report_environment() {
+  std::vector<std::string> env;
+  std::string pythonpath;
+  for (char** e = environ; e && *e; ++e) {
+    const std::string v = *e;
+    if (v.rfind("PYTHONPATH=", 0) == 0) pythonpath = v.substr(11);
+    else if (v.rfind("MPLBACKEND=", 0) != 0) env.push_back(v);
   }
-  return q + "'";
-}
-
-/// Renders the report (HTML and PNG plots, pteromys.diagnose_report under
-/// Debian's Python) into a temporary directory beside `dir` and renames it
-/// into place; nothing is left behind on failure.
-/// Debian's python3 with the pteromys package next to this executable on
-/// its path, the Agg backend: the start of the report's command line.
-std::string report_python() {
-  std::string env;
   const std::string py = python_dir();
-  if (!py.empty()) {
-    const char* old = std::getenv("PYTHONPATH");
-    env = "PYTHONPATH=" + quote(py + (old && *old ? std::string(":") + old : std::string())) + " ";
-  }
-  return env + "MPLBACKEND=Agg /usr/bin/python3";
+  if (!py.empty()) pythonpath = py + (pythonpath.empty() ? std::string() : ":" + pythonpath);
+  if (!pythonpath.empty()) env.push_back("PYTHONPATH=" + pythonpath);
+  env.push_back("MPLBACKEND=Agg");
+  return env;
 }
 
 /// Before a diagnosis that may take hours: whether the report can be
 /// rendered at all (python3 with matplotlib and pteromys.diagnose_report).
 void check_report_renderer(const std::string& dir) {
-  const std::string cmd = report_python() + " -c 'import matplotlib.pyplot, pteromys.diagnose_report' >/dev/null 2>&1";
-  if (std::system(cmd.c_str()) != 0)
+  const int rc = run_program({"/usr/bin/python3", "-c", "import matplotlib.pyplot, pteromys.diagnose_report"},
+                             report_environment(), -2);
+  if (rc != 0)
     throw InputError("cannot write report '" + dir + "': /usr/bin/python3 cannot import matplotlib and "
                      "pteromys.diagnose_report, which render it (scripts/setup.sh installs them); run without "
                      "--report, or fix that first");
 }
 
+/// Renders the report (HTML and PNG plots, pteromys.diagnose_report under
+/// Debian's Python) into a temporary directory beside `dir` and puts it in
+/// place; nothing is left behind on failure or on a signal, and an earlier
+/// report is replaced in one step where the file system can exchange two
+/// directories.
 void write_report(const std::string& json_path, const std::string& dir, bool quiet) {
   const std::string tmp = dir + ".tmp-" + std::to_string(getpid());
   std::error_code ec;
   std::filesystem::remove_all(tmp, ec);
-  if (mkdir(tmp.c_str(), 0777) != 0) throw InputError("cannot create directory '" + tmp + "'");
-  const std::string cmd = report_python() + " -m pteromys.diagnose_report " + quote(json_path) + " " + quote(tmp) +
-                          (quiet ? " --quiet" : "") + " 1>&2";
-  const int rc = std::system(cmd.c_str());
+  register_temp_dir(tmp);
+  if (mkdir(tmp.c_str(), 0777) != 0) {
+    forget_temp_dir(tmp);
+    throw InputError("cannot create directory '" + tmp + "'");
+  }
+  std::vector<std::string> args = {"/usr/bin/python3", "-m", "pteromys.diagnose_report", json_path, tmp};
+  if (quiet) args.push_back("--quiet");
+  const int rc = run_program(args, report_environment(), 2);
   if (rc != 0 || !exists(tmp + "/index.html")) {
-    std::filesystem::remove_all(tmp, ec);
+    discard_temp_dir(tmp);
     throw InputError("the report could not be rendered (python3 -m pteromys.diagnose_report failed; "
-                             "matplotlib and the pteromys module are needed)");
+                     "matplotlib and the pteromys module are needed)");
   }
   if (const std::string why = report_dir_problem(dir); !why.empty()) {
-    std::filesystem::remove_all(tmp, ec);
+    discard_temp_dir(tmp);
     throw InputError("cannot write report '" + dir + "': " + why);
   }
   if (exists(dir)) {
-    // Replace an earlier report: move it aside, then remove it.
+    // Replace an earlier report: exchange the two directories in one step,
+    // then remove the old one (now at tmp)
+    if (renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) == 0) {
+      discard_temp_dir(tmp);
+      return;
+    }
+    // a file system that cannot exchange: move the old one aside first
     const std::string old = dir + ".old-" + std::to_string(getpid());
     if (std::rename(dir.c_str(), old.c_str()) != 0) {
-      std::filesystem::remove_all(tmp, ec);
+      discard_temp_dir(tmp);
       throw InputError("cannot replace the existing report directory '" + dir + "'");
     }
-    std::filesystem::remove_all(old, ec);
+    register_temp_dir(old);
+    if (std::rename(tmp.c_str(), dir.c_str()) != 0) {
+      std::rename(old.c_str(), dir.c_str());
+      forget_temp_dir(old);
+      discard_temp_dir(tmp);
+      throw InputError("cannot rename '" + tmp + "' to '" + dir + "'");
+    }
+    forget_temp_dir(tmp);
+    discard_temp_dir(old);
+    return;
   }
   if (std::rename(tmp.c_str(), dir.c_str()) != 0) {
-    std::filesystem::remove_all(tmp, ec);
+    discard_temp_dir(tmp);
     throw InputError("cannot rename '" + tmp + "' to '" + dir + "'");
   }
+  forget_temp_dir(tmp);
 }
 
 int run_diagnose(const std::vector<std::string>& argv) {

@@ -33,10 +33,6 @@ std::string strip_slash(std::string p) {
   return p;
 }
 
-std::string parent_of(const std::string& p) {
-  const auto s = p.find_last_of('/');
-  return s == std::string::npos ? "." : (s == 0 ? "/" : p.substr(0, s));
-}
 
 // Key of a glider file: its name without .glider.json / .json.
 std::string key_of(const std::string& path) {
@@ -105,8 +101,8 @@ int run_generate(const std::vector<std::string>& argv) {
   const std::string out = strip_slash(a.has("-o") ? a.get("-o") : a.get("--output"));
   if (out.empty()) throw InputError("missing -o DATASET_DIR (see --help)");
   if (exists(out) && !is_dir(out)) throw InputError("output '" + out + "' exists and is not a directory");
-  if (!is_dir(parent_of(out)))
-    throw InputError("cannot write dataset '" + out + "': directory '" + parent_of(out) + "' does not exist");
+  if (!is_dir(directory_of(out)))
+    throw InputError("cannot write dataset '" + out + "': directory '" + directory_of(out) + "' does not exist");
 
   GenerateOptions o;
   o.effects = parse_effects(a.get("--effects", "physics"));
@@ -228,14 +224,15 @@ int run_generate(const std::vector<std::string>& argv) {
   // atomically and dataset.json comes last.
   if (!exists(out)) {
     const std::string tmp = out + ".tmp-" + std::to_string(getpid());
+    register_temp_dir(tmp);  // removed by the signal handlers too
     try {
       if (mkdir(tmp.c_str(), 0777) != 0) throw InputError("cannot create directory '" + tmp + "'");
       save_dataset(d, tmp);
       write_file_atomic(tmp + "/generation.json", gen.dump(2) + "\n");
       if (std::rename(tmp.c_str(), out.c_str()) != 0) throw InputError("cannot rename '" + tmp + "' to '" + out + "'");
+      forget_temp_dir(tmp);
     } catch (...) {
-      std::error_code ec;
-      std::filesystem::remove_all(tmp, ec);
+      discard_temp_dir(tmp);
       throw;
     }
   } else {

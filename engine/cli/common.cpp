@@ -74,8 +74,7 @@ void check_writable(const std::string& path, const std::string& what) {
   // a symbolic link is written through: its target's directory must take
   // the new file
   const std::string target = output_target(path);  // (a loop of links: its own message)
-  const auto slash = target.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : target.substr(0, slash));
+  const std::string dir = directory_of(target);
   // a symbolic link's target is where the file goes: say so
   const std::string via = target == path ? std::string() : " (where the symbolic link points: '" + target + "')";
   if (stat(dir.c_str(), &st) != 0)

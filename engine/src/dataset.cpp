@@ -12,12 +12,6 @@ using nlohmann::json;
 
 namespace {
 
-std::string dirname_of(const std::string& p) {
-  const auto s = p.find_last_of('/');
-  if (s == std::string::npos) return ".";
-  return s == 0 ? "/" : p.substr(0, s);
-}
-
 std::string join(const std::string& dir, const std::string& rel) {
   if (!rel.empty() && rel[0] == '/') return rel;
   return dir + "/" + rel;
@@ -143,7 +137,7 @@ std::vector<std::string> dataset_problems(const Dataset& d) {
 
 Dataset load_dataset(const std::string& path) {
   Dataset d;
-  const std::string dir = dirname_of(path);
+  const std::string dir = directory_of(path);
   json j;
   try {
     j = parse_json(read_file(path), "the dataset file");
@@ -255,7 +249,7 @@ void save_dataset(const Dataset& d, const std::string& dir) {
     auto it = d.glider_files.find(k);
     const std::string rel = it != d.glider_files.end() ? it->second : "gliders/" + k + ".glider.json";
     gl[k] = rel;
-    make_dirs(dirname_of(join(dir, rel)));
+    make_dirs(directory_of(join(dir, rel)));
     save_glider(g, join(dir, rel));
   }
   std::ostringstream csv;

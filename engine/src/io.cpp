@@ -11,10 +11,14 @@
 #include <cmath>
 #include <dirent.h>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <spawn.h>
 #include <sys/stat.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "json_reader.hpp"
@@ -52,6 +56,11 @@ json parse_json(const std::string& text, const std::string& what) {
   }
 }
 
+std::string directory_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+}
+
 std::string read_file(const std::string& path) {
   struct stat st {};
   if (stat(path.c_str(), &st) != 0) throw InputError("cannot read '" + path + "': no such file");
@@ -76,43 +85,99 @@ std::string errno_text(int e) {
 }
 
 void fsync_dir_of(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  const int fd = ::open(directory_of(path).c_str(), O_RDONLY | O_DIRECTORY);
   if (fd >= 0) {
     ::fsync(fd);  // best effort: some file systems refuse fsync on directories
     ::close(fd);
   }
 }
 
-// Temporary files being written, for remove_temp_files_on_signal(): fixed
+// Temporary files being written and temporary directories being filled (a
+// report, a generated dataset), for remove_temp_files_on_signal(): fixed
 // slots of plain chars, so that a signal handler can read them safely.
-constexpr int kTempSlots = 64;
 constexpr std::size_t kTempPathMax = 4096;
-char g_temp_paths[kTempSlots][kTempPathMax];
-std::atomic<bool> g_temp_used[kTempSlots];
 std::mutex g_temp_mutex;
 
-void register_temp(const std::string& tmp) {
-  if (tmp.size() + 1 > kTempPathMax) return;
-  std::lock_guard<std::mutex> lock(g_temp_mutex);
-  for (int i = 0; i < kTempSlots; ++i) {
-    if (g_temp_used[i].load()) continue;
-    std::memcpy(g_temp_paths[i], tmp.c_str(), tmp.size() + 1);
-    g_temp_used[i].store(true);
-    return;
-  }
-}
+template <int N>
+struct PathSlots {
+  static constexpr int size = N;
+  char paths[N][kTempPathMax];
+  std::atomic<bool> used[N];
 
-void unregister_temp(const std::string& tmp) {
-  std::lock_guard<std::mutex> lock(g_temp_mutex);
-  for (int i = 0; i < kTempSlots; ++i)
-    if (g_temp_used[i].load() && tmp == g_temp_paths[i]) g_temp_used[i].store(false);
+  void add(const std::string& p) {
+    if (p.size() + 1 > kTempPathMax) return;
+    std::lock_guard<std::mutex> lock(g_temp_mutex);
+    for (int i = 0; i < N; ++i) {
+      if (used[i].load()) continue;
+      std::memcpy(paths[i], p.c_str(), p.size() + 1);
+      used[i].store(true);
+      return;
+    }
+  }
+  void forget(const std::string& p) {
+    std::lock_guard<std::mutex> lock(g_temp_mutex);
+    for (int i = 0; i < N; ++i)
+      if (used[i].load() && p == paths[i]) used[i].store(false);
+  }
+};
+PathSlots<64> g_temp_files;  // zero-initialised: static storage
+PathSlots<8> g_temp_dirs;
+
+void register_temp(const std::string& tmp) { g_temp_files.add(tmp); }
+void unregister_temp(const std::string& tmp) { g_temp_files.forget(tmp); }
+
+// Child processes writing into the temporary directories (run_program).
+constexpr int kChildSlots = 8;
+std::atomic<pid_t> g_children[kChildSlots];
+
+// Removes the entry `name` of the directory open as `dirfd`, and everything
+// under it when it is a directory, with async-signal-safe calls only
+// (openat, getdents64, unlinkat): for the signal handlers. Links are removed,
+// never followed. `depth` bounds the recursion.
+bool remove_tree_at(int dirfd, const char* name, int depth) {
+  if (::unlinkat(dirfd, name, 0) == 0) return true;
+  if ((errno != EISDIR && errno != EPERM) || depth > 16) return false;
+  const int fd = ::openat(dirfd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return false;
+  alignas(8) char buf[2048];
+  // passes over the directory from its start until one removes nothing
+  // (removing entries while reading may skip some)
+  for (int pass = 0; pass < 8; ++pass) {
+    bool removed = false;
+    ::lseek(fd, 0, SEEK_SET);
+    for (;;) {
+      const long n = ::syscall(SYS_getdents64, fd, buf, sizeof buf);
+      if (n <= 0) break;
+      for (long off = 0; off < n;) {
+        // struct linux_dirent64: d_ino (8), d_off (8), d_reclen (2), d_type (1), d_name
+        unsigned short reclen;
+        std::memcpy(&reclen, buf + off + 16, sizeof reclen);
+        const char* entry = buf + off + 19;
+        if (std::strcmp(entry, ".") != 0 && std::strcmp(entry, "..") != 0 && remove_tree_at(fd, entry, depth + 1))
+          removed = true;
+        off += reclen;
+      }
+    }
+    if (!removed) break;
+  }
+  ::close(fd);
+  return ::unlinkat(dirfd, name, AT_REMOVEDIR) == 0;
 }
 
 extern "C" void remove_temps_and_reraise(int sig) {
-  for (int i = 0; i < kTempSlots; ++i)
-    if (g_temp_used[i].load()) ::unlink(g_temp_paths[i]);
+  const int saved = errno;
+  // first stop the children that write into the temporary directories
+  for (int i = 0; i < kChildSlots; ++i) {
+    const pid_t pid = g_children[i].load();
+    if (pid <= 0) continue;
+    ::kill(-pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+  }
+  for (int i = 0; i < g_temp_files.size; ++i)
+    if (g_temp_files.used[i].load()) ::unlink(g_temp_files.paths[i]);
+  for (int i = 0; i < g_temp_dirs.size; ++i)
+    if (g_temp_dirs.used[i].load()) remove_tree_at(AT_FDCWD, g_temp_dirs.paths[i], 0);
+  errno = saved;
   ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
@@ -213,6 +278,67 @@ std::string temp_path_for(const std::string& path, const std::string& suffix) {
 void discard_temp_file(const std::string& tmp) {
   std::remove(tmp.c_str());
   unregister_temp(tmp);
+}
+
+void register_temp_dir(const std::string& dir) { g_temp_dirs.add(dir); }
+
+void forget_temp_dir(const std::string& dir) { g_temp_dirs.forget(dir); }
+
+void discard_temp_dir(const std::string& dir) {
+  g_temp_dirs.forget(dir);
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+}
+
+int run_program(const std::vector<std::string>& argv, const std::vector<std::string>& env, int stdout_to) {
+  if (argv.empty()) return -1;
+  std::vector<char*> av, ev;
+  for (const auto& s : argv) av.push_back(const_cast<char*>(s.c_str()));
+  av.push_back(nullptr);
+  for (const auto& s : env) ev.push_back(const_cast<char*>(s.c_str()));
+  ev.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawnattr_t at;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawnattr_init(&at);
+  if (stdout_to == -2) posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  else if (stdout_to >= 0 && stdout_to != 1) posix_spawn_file_actions_adddup2(&fa, stdout_to, 1);
+  if (stdout_to == -2) posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  // its own process group, so that the handlers can stop all of it (a
+  // terminal's Ctrl-C then reaches this process, whose handler stops it),
+  // with the default signal dispositions and none blocked
+  sigset_t all, none, old;
+  sigfillset(&all);
+  sigemptyset(&none);
+  posix_spawnattr_setpgroup(&at, 0);
+  posix_spawnattr_setsigmask(&at, &none);
+  sigset_t deflt;
+  sigemptyset(&deflt);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) sigaddset(&deflt, sig);
+  posix_spawnattr_setsigdefault(&at, &deflt);
+  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  // signals held until the child is registered, so that a handler never
+  // misses it
+  pthread_sigmask(SIG_BLOCK, &all, &old);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, av[0], &fa, &at, av.data(), ev.data());
+  int slot = -1;
+  if (rc == 0)
+    for (int i = 0; i < kChildSlots && slot < 0; ++i) {
+      pid_t expected = 0;
+      if (g_children[i].compare_exchange_strong(expected, pid)) slot = i;
+    }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&at);
+  if (rc != 0) return -1;
+  int status = 0;
+  pid_t w;
+  do w = ::waitpid(pid, &status, 0);
+  while (w < 0 && errno == EINTR);
+  if (slot >= 0) g_children[slot].store(0);
+  if (w < 0) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 
 void remove_temp_files_on_signal() {

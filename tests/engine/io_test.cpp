@@ -6,6 +6,10 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <thread>
+
+#include <csignal>
+#include <sys/wait.h>
 
 #include <gtest/gtest.h>
 
@@ -183,4 +187,76 @@ TEST(OutputPaths, ReportDirectoryHoldsOnlyAReport) {
   ASSERT_EQ(::symlink(d.c_str(), (d + "-link").c_str()), 0);
   EXPECT_NE(report_dir_problem(d + "-link").find("symbolic link"), std::string::npos);
   std::remove((d + "-link").c_str());
+}
+
+namespace {
+bool path_exists(const std::string& p) {
+  struct stat st {};
+  return ::lstat(p.c_str(), &st) == 0;
+}
+}  // namespace
+
+// A signal while a temporary directory is being filled (a report being
+// rendered, a dataset being generated) removes that directory with all
+// that is in it, after stopping the program that writes into it; links in it
+// are removed, not followed; the process then ends by the signal. Run in a
+// forked child, which installs the handlers and signals itself.
+TEST(OutputPaths, ASignalRemovesTemporaryDirectoriesAndStopsTheirWriter) {
+  const std::string d = fresh_dir();
+  const std::string tmp = d + "/rep.tmp-1";
+  const std::string outside = d + "/keep";
+  ASSERT_EQ(::mkdir(outside.c_str(), 0777), 0);
+  put(outside + "/mine.txt", "keep me");
+  ASSERT_EQ(::mkdir(tmp.c_str(), 0777), 0);
+  // more entries than one read of the directory returns (2 KB of entries),
+  // a nested directory two levels deep, links to a file and a directory
+  // outside, and a file with no write permission
+  for (int i = 0; i < 300; ++i) put(tmp + "/plot-with-a-long-name-" + std::to_string(i) + ".png", "png");
+  ASSERT_EQ(::mkdir((tmp + "/gliders").c_str(), 0777), 0);
+  ASSERT_EQ(::mkdir((tmp + "/gliders/deeper").c_str(), 0777), 0);
+  put(tmp + "/gliders/deeper/a.glider.json", "{}");
+  ASSERT_EQ(::symlink((outside + "/mine.txt").c_str(), (tmp + "/link-to-file").c_str()), 0);
+  ASSERT_EQ(::symlink(outside.c_str(), (tmp + "/link-to-dir").c_str()), 0);
+  put(tmp + "/read-only.html", "x");
+  ::chmod((tmp + "/read-only.html").c_str(), 0444);
+  const std::string pidfile = d + "/writer.pid";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    remove_temp_files_on_signal();
+    register_temp_dir(tmp);
+    // a writer that would run for a minute, writing into the directory;
+    // the signal comes from a thread once it has started
+    std::thread killer([&] {
+      for (int i = 0; i < 500 && !path_exists(pidfile); ++i) ::usleep(10000);
+      ::usleep(50000);
+      ::kill(::getpid(), SIGTERM);
+    });
+    killer.detach();
+    run_program({"/bin/sh", "-c", "echo $$ > '" + pidfile + "'; while :; do echo x >> '" + tmp +
+                 "/growing.txt'; sleep 0.01; done"},
+                {"PATH=/usr/bin:/bin"});
+    ::_exit(3);  // not reached: the signal ends the process
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "exit status " << WEXITSTATUS(status);
+  EXPECT_EQ(WTERMSIG(status), SIGTERM);
+  EXPECT_FALSE(path_exists(tmp)) << tmp << " left behind";
+  EXPECT_EQ(read_file(outside + "/mine.txt"), "keep me");  // links were not followed
+  // the writer is gone too (its process group killed, not orphaned)
+  const std::string pid = read_file(pidfile);
+  ASSERT_FALSE(pid.empty());
+  ::usleep(100000);
+  const bool running = ::kill(std::stoi(pid), 0) == 0;
+  if (running) ::kill(-std::stoi(pid), SIGKILL);  // a failed test leaves no endless writer behind
+  EXPECT_FALSE(running) << "the writer " << pid << " still ran";
+}
+
+// run_program runs without a shell and reports the exit status.
+TEST(OutputPaths, RunProgramReportsTheExitStatus) {
+  EXPECT_EQ(run_program({"/bin/sh", "-c", "exit 7"}, {}), 7);
+  EXPECT_EQ(run_program({"/bin/true"}, {}), 0);
+  EXPECT_EQ(run_program({"/no/such/program"}, {}), -1);  // could not be started
+  EXPECT_EQ(run_program({"/bin/sh", "-c", "kill -TERM $$"}, {}), 128 + SIGTERM);
 }

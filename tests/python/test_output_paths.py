@@ -336,3 +336,49 @@ def test_ctrl_c_stops_a_python_run_at_the_next_progress_report(dataset, tmp_path
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=300)
     assert out.startswith("INTERRUPTED False"), (out, err)
+
+
+@pytest.mark.parametrize("how", ["SIGTERM to the command", "Ctrl-C to its process group", "SIGHUP to its group"])
+def test_a_signal_while_the_report_is_rendered_leaves_the_earlier_report(tmp_path, dataset, how):
+    """The report is rendered into REP.tmp-PID by a Python child process; a
+    signal then (a kill, a terminal's Ctrl-C or hang-up) used to leave that
+    directory and the renderer behind. Now the command stops the renderer,
+    removes the directory, keeps the earlier report as it was and ends by the
+    signal; the result file, written before the report, is complete."""
+    rep = tmp_path / "rep"
+    out = tmp_path / "o.json"
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
+    before = _snapshot(rep)
+    out.unlink()
+    sig = {"SIGTERM": signal.SIGTERM, "Ctrl-C": signal.SIGINT, "SIGHUP": signal.SIGHUP}[how.split()[0]]
+    p = subprocess.Popen([os.path.join(BUILD, "bin", "pteromys"), "diagnose", str(dataset / "dataset.json"), "--json",
+                          str(out), "--report", str(rep)] + QUICK, start_new_session=True,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    # wait until the renderer has written its first file into REP.tmp-PID
+    tmp = tmp_path / ("rep.tmp-%d" % p.pid)
+    import time
+    deadline = time.time() + 120
+    while not (tmp.is_dir() and os.listdir(tmp)):
+        assert p.poll() is None, "the command ended before its report was being rendered"
+        assert time.time() < deadline, "no report was rendered within 2 minutes"
+        time.sleep(0.002)
+    if "group" in how:
+        os.killpg(p.pid, sig)
+    else:
+        p.send_signal(sig)
+    p.communicate(timeout=60)
+    assert p.returncode == -sig, p.returncode
+    assert sorted(f.name for f in tmp_path.iterdir()) == ["o.json", "rep"]
+    assert _snapshot(rep) == before
+    assert json.load(open(out))["format"] == "pteromys-diagnosis/1"
+    # no renderer left writing (it ran in its own process group)
+    left = []
+    for pid in os.listdir("/proc"):
+        if pid.isdigit():
+            try:
+                if str(tmp).encode() in open("/proc/%s/cmdline" % pid, "rb").read():
+                    left.append(pid)
+            except OSError:
+                pass
+    assert left == [], "renderer processes left: %s" % left

@@ -93,11 +93,38 @@ void commit_temp_file(const std::string& tmp, const std::string& path, const std
 /// commit several files together.
 bool rename_temp_into_place(const std::string& tmp, const std::string& path);
 
-/// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT that delete the
-/// temporary files of writes in progress (from temp_path_for) and then end the
-/// process as the signal would. (SIGKILL cannot be caught: after it, the
-/// target is still the old file or the new one, and a `*.tmp-PID-N` file may
-/// remain beside it.)
+/// The directory part of a path: "." for a bare name, "/" for a name at the
+/// root (as dirname(1), without resolving links).
+std::string directory_of(const std::string& path);
+
+/// Records a temporary directory being filled (a report or a dataset written
+/// beside its place and renamed into it), so that the signal handlers of
+/// remove_temp_files_on_signal remove it with everything in it.
+void register_temp_dir(const std::string& dir);
+
+/// Removes a temporary directory from register_temp_dir with everything in
+/// it, and forgets it.
+void discard_temp_dir(const std::string& dir);
+
+/// Forgets a temporary directory that has been renamed into place.
+void forget_temp_dir(const std::string& dir);
+
+/// Runs the program argv[0] (a path; no shell) with the environment `env`
+/// ("NAME=value" each) and waits for it. Its standard output goes to the
+/// descriptor `stdout_to` (1: unchanged), or with its standard error to
+/// /dev/null when `stdout_to` is -2. It runs in its own process group, which
+/// the signal handlers of remove_temp_files_on_signal kill before they
+/// remove the temporary files and directories it may be writing. Returns its
+/// exit status, 128 + the signal that ended it, or -1 when it could not be
+/// started.
+int run_program(const std::vector<std::string>& argv, const std::vector<std::string>& env, int stdout_to = 1);
+
+/// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT that stop the
+/// children of run_program, delete the temporary files of writes in progress
+/// (from temp_path_for) and the temporary directories (register_temp_dir),
+/// and then end the process as the signal would. (SIGKILL cannot be caught:
+/// after it, the target is still the old file or the new one, and a
+/// `*.tmp-PID-N` file or `*.tmp-PID` directory may remain beside it.)
 void remove_temp_files_on_signal();
 std::string read_file(const std::string& path);
 
