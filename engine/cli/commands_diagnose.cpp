@@ -124,8 +124,11 @@ void write_report(const std::string& json_path, const std::string& dir, bool qui
   const int rc = run_program(args, report_environment(), 2);
   if (rc != 0 || !exists(tmp + "/index.html")) {
     discard_temp_dir(tmp);
-    throw InputError("the report could not be rendered (python3 -m pteromys.diagnose_report failed; "
-                     "matplotlib and the pteromys module are needed)");
+    const std::string how = rc < 0    ? "could not be started"
+                            : rc > 128 ? "was ended by signal " + std::to_string(rc - 128)
+                            : rc != 0  ? "ended with status " + std::to_string(rc) + "; its message is above"
+                                       : "wrote no index.html";
+    throw InputError("the report could not be rendered (python3 -m pteromys.diagnose_report " + how + ")");
   }
   if (const std::string why = report_dir_problem(dir); !why.empty()) {
     discard_temp_dir(tmp);

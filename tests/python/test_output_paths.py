@@ -382,3 +382,37 @@ def test_a_signal_while_the_report_is_rendered_leaves_the_earlier_report(tmp_pat
             except OSError:
                 pass
     assert left == [], "renderer processes left: %s" % left
+
+
+def test_a_report_that_fails_while_rendered_leaves_the_result_and_the_earlier_report(tmp_path, dataset):
+    """The renderer starts (checked before the run) but fails midway: here a
+    file size limit (RLIMIT_FSIZE, SIGXFSZ ignored, as a full disk would)
+    above the result file's size and below the largest plot's. The command
+    exits 2 saying where the result is; the result file is complete, the
+    earlier report is as it was and no temporary directory is left."""
+    import resource
+    rep = tmp_path / "rep"
+    out = tmp_path / "o.json"
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
+    before = _snapshot(rep)
+    result_size = out.stat().st_size
+    largest_plot = max(len(v) for k, v in before.items() if k.endswith(".png"))
+    assert result_size < largest_plot, (result_size, largest_plot)  # else this limit cannot separate them
+    limit = (result_size + largest_plot) // 2
+    out.unlink()
+
+    def limited():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    p = subprocess.run([os.path.join(BUILD, "bin", "pteromys"), "diagnose", str(dataset / "dataset.json"), "--json",
+                        str(out), "--report", str(rep)] + QUICK, capture_output=True, text=True, preexec_fn=limited,
+                       timeout=600)
+    assert p.returncode == 2, (p.returncode, p.stderr)
+    assert "report could not be rendered" in p.stderr and "the diagnosis result is in '%s'" % out in p.stderr, p.stderr
+    # the renderer's own one-line reason, not a traceback
+    assert "cannot write" in p.stderr and "File too large" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert json.load(open(out))["format"] == "pteromys-diagnosis/1"
+    assert _snapshot(rep) == before
+    assert sorted(f.name for f in tmp_path.iterdir()) == ["o.json", "rep"]

@@ -303,7 +303,12 @@ def main(argv=None):
     if r.get("format") != "pteromys-diagnosis/1":
         print("not a diagnosis result (format pteromys-diagnosis/1): %s" % argv[0], file=sys.stderr)
         return 2
-    render(r, argv[1], quiet=quiet)
+    try:
+        render(r, argv[1], quiet=quiet)
+    except OSError as e:  # a full disk, a file size limit, permissions: one line that names the file
+        where = e.filename or argv[1]
+        print("pteromys.diagnose_report: cannot write %s: %s" % (where, e.strerror or e), file=sys.stderr)
+        return 2
     return 0
 
 
