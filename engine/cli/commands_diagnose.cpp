@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -141,20 +142,26 @@ void write_report(const std::string& json_path, const std::string& dir, bool qui
       discard_temp_dir(tmp);
       return;
     }
-    // a file system that cannot exchange: move the old one aside first
+    // a file system that cannot exchange: move the old one aside, the new
+    // one in, with signals held between the two renames (a handler there
+    // would leave no report at DIR), then remove the old one
     const std::string old = dir + ".old-" + std::to_string(getpid());
-    if (std::rename(dir.c_str(), old.c_str()) != 0) {
-      discard_temp_dir(tmp);
-      throw InputError("cannot replace the existing report directory '" + dir + "'");
+    sigset_t all, held;
+    sigfillset(&all);
+    pthread_sigmask(SIG_BLOCK, &all, &held);
+    const bool aside = std::rename(dir.c_str(), old.c_str()) == 0;
+    const bool in = aside && std::rename(tmp.c_str(), dir.c_str()) == 0;
+    if (aside && !in) std::rename(old.c_str(), dir.c_str());  // put the earlier report back
+    if (in) {
+      forget_temp_dir(tmp);
+      register_temp_dir(old);
     }
-    register_temp_dir(old);
-    if (std::rename(tmp.c_str(), dir.c_str()) != 0) {
-      std::rename(old.c_str(), dir.c_str());
-      forget_temp_dir(old);
+    pthread_sigmask(SIG_SETMASK, &held, nullptr);
+    if (!in) {
       discard_temp_dir(tmp);
-      throw InputError("cannot rename '" + tmp + "' to '" + dir + "'");
+      throw InputError(aside ? "cannot rename '" + tmp + "' to '" + dir + "'"
+                             : "cannot replace the existing report directory '" + dir + "'");
     }
-    forget_temp_dir(tmp);
     discard_temp_dir(old);
     return;
   }

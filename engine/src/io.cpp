@@ -170,7 +170,7 @@ extern "C" void remove_temps_and_reraise(int sig) {
   for (int i = 0; i < kChildSlots; ++i) {
     const pid_t pid = g_children[i].load();
     if (pid <= 0) continue;
-    ::kill(-pid, SIGKILL);
+    ::kill(pid, SIGKILL);
     ::waitpid(pid, nullptr, 0);
   }
   for (int i = 0; i < g_temp_files.size; ++i)
@@ -304,19 +304,18 @@ int run_program(const std::vector<std::string>& argv, const std::vector<std::str
   if (stdout_to == -2) posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
   else if (stdout_to >= 0 && stdout_to != 1) posix_spawn_file_actions_adddup2(&fa, stdout_to, 1);
   if (stdout_to == -2) posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
-  // its own process group, so that the handlers can stop all of it (a
-  // terminal's Ctrl-C then reaches this process, whose handler stops it),
-  // with the default signal dispositions and none blocked
+  // in this process's group, so that what reaches the group (a terminal's
+  // Ctrl-C, Ctrl-Z or hang-up, a SIGKILL to the group) reaches it too, with
+  // the default signal dispositions and none blocked
   sigset_t all, none, old;
   sigfillset(&all);
   sigemptyset(&none);
-  posix_spawnattr_setpgroup(&at, 0);
   posix_spawnattr_setsigmask(&at, &none);
   sigset_t deflt;
   sigemptyset(&deflt);
   for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE}) sigaddset(&deflt, sig);
   posix_spawnattr_setsigdefault(&at, &deflt);
-  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
   // signals held until the child is registered, so that a handler never
   // misses it
   pthread_sigmask(SIG_BLOCK, &all, &old);
@@ -332,12 +331,18 @@ int run_program(const std::vector<std::string>& argv, const std::vector<std::str
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&at);
   if (rc != 0) return -1;
-  int status = 0;
-  pid_t w;
-  do w = ::waitpid(pid, &status, 0);
+  // waited for without reaping it first, so that its slot is cleared
+  // while its pid still names it (a handler never kills a reused pid)
+  siginfo_t info {};
+  int w;
+  do w = ::waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOWAIT);
   while (w < 0 && errno == EINTR);
   if (slot >= 0) g_children[slot].store(0);
-  if (w < 0) return -1;
+  int status = 0;
+  pid_t r;
+  do r = ::waitpid(pid, &status, 0);
+  while (r < 0 && errno == EINTR);
+  if (w < 0 || r < 0) return -1;
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
 }
 

@@ -355,33 +355,128 @@ def test_a_signal_while_the_report_is_rendered_leaves_the_earlier_report(tmp_pat
     p = subprocess.Popen([os.path.join(BUILD, "bin", "pteromys"), "diagnose", str(dataset / "dataset.json"), "--json",
                           str(out), "--report", str(rep)] + QUICK, start_new_session=True,
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    # wait until the renderer has written its first file into REP.tmp-PID
     tmp = tmp_path / ("rep.tmp-%d" % p.pid)
-    import time
-    deadline = time.time() + 120
-    while not (tmp.is_dir() and os.listdir(tmp)):
-        assert p.poll() is None, "the command ended before its report was being rendered"
-        assert time.time() < deadline, "no report was rendered within 2 minutes"
-        time.sleep(0.002)
-    if "group" in how:
-        os.killpg(p.pid, sig)
-    else:
-        p.send_signal(sig)
-    p.communicate(timeout=60)
-    assert p.returncode == -sig, p.returncode
-    assert sorted(f.name for f in tmp_path.iterdir()) == ["o.json", "rep"]
-    assert _snapshot(rep) == before
-    assert json.load(open(out))["format"] == "pteromys-diagnosis/1"
-    # no renderer left writing (it ran in its own process group)
+    try:
+        # wait until the renderer has written its first file into REP.tmp-PID
+        import time
+        deadline = time.time() + 120
+        while not (tmp.is_dir() and os.listdir(tmp)):
+            assert p.poll() is None, "the command ended before its report was being rendered"
+            assert time.time() < deadline, "no report was rendered within 2 minutes"
+            time.sleep(0.002)
+        if "group" in how:
+            os.killpg(p.pid, sig)
+        else:
+            p.send_signal(sig)
+        p.communicate(timeout=60)
+        assert p.returncode == -sig, p.returncode
+        assert sorted(f.name for f in tmp_path.iterdir()) == ["o.json", "rep"]
+        assert _snapshot(rep) == before
+        assert json.load(open(out))["format"] == "pteromys-diagnosis/1"
+        # no renderer left writing into the removed directory
+        assert _processes_naming(tmp) == [], "renderer processes left"
+    finally:
+        # a failure leaves nothing running: the command and its renderer (one session)
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        p.wait()
+        for pid in _processes_naming(tmp):
+            os.kill(int(pid), signal.SIGKILL)
+
+
+def _processes_naming(path):
+    """The pids whose command line names `path`."""
     left = []
     for pid in os.listdir("/proc"):
         if pid.isdigit():
             try:
-                if str(tmp).encode() in open("/proc/%s/cmdline" % pid, "rb").read():
+                if str(path).encode() in open("/proc/%s/cmdline" % pid, "rb").read():
                     left.append(pid)
             except OSError:
                 pass
-    assert left == [], "renderer processes left: %s" % left
+    return left
+
+
+_NO_EXCHANGE_SHIM = r"""
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+/* a file system that cannot exchange two directories */
+int renameat2(int olddirfd, const char* o, int newdirfd, const char* n, unsigned int flags) {
+  (void)olddirfd; (void)o; (void)newdirfd; (void)n; (void)flags;
+  errno = EINVAL;
+  return -1;
+}
+/* a slow rename from a path holding SHIM_SLOW_FROM, announced on stderr */
+int rename(const char* o, const char* n) {
+  static int (*real)(const char*, const char*);
+  if (!real) real = (int (*)(const char*, const char*))dlsym(RTLD_NEXT, "rename");
+  const char* mark = getenv("SHIM_SLOW_FROM");
+  if (mark && *mark && strstr(o, mark)) {
+    fprintf(stderr, "SHIM: renaming slowly\n");
+    fflush(stderr);
+    sleep(2);
+  }
+  return real(o, n);
+}
+"""
+
+
+@pytest.mark.parametrize("signalled", [False, True], ids=["replaced", "SIGTERM between the renames"])
+def test_an_earlier_report_is_replaced_where_directories_cannot_be_exchanged(tmp_path, dataset, signalled):
+    """Where the file system cannot exchange two directories (renameat2 with
+    RENAME_EXCHANGE fails: an LD_PRELOAD shim, compiled here, makes it so),
+    the earlier report is moved aside and the new one renamed in. A signal
+    between the two renames (the shim makes the second one slow) once left
+    no report at all (review of 2026-12-06): it is held until both are done,
+    so the new report is in place and nothing else is left."""
+    import shutil
+    cc = shutil.which("cc") or shutil.which("gcc")
+    assert cc, "no C compiler (cc or gcc) to build the shim this test needs; scripts/setup.sh installs build-essential"
+    shim = tmp_path / "shim" / "noexchange.so"
+    shim.parent.mkdir()
+    (shim.parent / "shim.c").write_text(_NO_EXCHANGE_SHIM)
+    b = subprocess.run([cc, "-shared", "-fPIC", "-o", str(shim), str(shim.parent / "shim.c"), "-ldl"],
+                       capture_output=True, text=True)
+    assert b.returncode == 0, b.stderr
+    work = tmp_path / "work"
+    work.mkdir()
+    rep = work / "rep"
+    out = work / "o.json"
+    r = run(["diagnose", dataset / "dataset.json", "--json", out, "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
+    names = sorted(os.listdir(rep))
+    (rep / "stale.png").write_bytes(b"a plot only the earlier report has")
+    env = dict(os.environ, LD_PRELOAD=str(shim), SHIM_SLOW_FROM="rep.tmp-" if signalled else "")
+    p = subprocess.Popen([os.path.join(BUILD, "bin", "pteromys"), "diagnose", str(dataset / "dataset.json"), "--json",
+                          str(out), "--report", str(rep)] + QUICK, start_new_session=True, env=env,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        if signalled:
+            seen = []
+            for line in p.stderr:
+                seen.append(line)
+                if "SHIM: renaming slowly" in line:
+                    break
+            assert seen and "SHIM" in seen[-1], "the report was never renamed into place: %s" % "".join(seen)
+            p.send_signal(signal.SIGTERM)
+        _, err = p.communicate(timeout=120)
+        assert p.returncode == (-signal.SIGTERM if signalled else 0), (p.returncode, err)
+    finally:
+        try:
+            os.killpg(p.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        p.wait()
+    # the new report, whole, and nothing beside it
+    assert sorted(os.listdir(rep)) == names
+    assert sorted(os.listdir(work)) == ["o.json", "rep"]
 
 
 def test_a_report_that_fails_while_rendered_leaves_the_result_and_the_earlier_report(tmp_path, dataset):

@@ -112,11 +112,15 @@ void forget_temp_dir(const std::string& dir);
 /// Runs the program argv[0] (a path; no shell) with the environment `env`
 /// ("NAME=value" each) and waits for it. Its standard output goes to the
 /// descriptor `stdout_to` (1: unchanged), or with its standard error to
-/// /dev/null when `stdout_to` is -2. It runs in its own process group, which
-/// the signal handlers of remove_temp_files_on_signal kill before they
-/// remove the temporary files and directories it may be writing. Returns its
-/// exit status, 128 + the signal that ended it, or -1 when it could not be
-/// started.
+/// /dev/null when `stdout_to` is -2. It stays in this process's group (a
+/// terminal's Ctrl-C, a SIGKILL to the group reach it too); the signal
+/// handlers of remove_temp_files_on_signal kill it (SIGKILL; it must not
+/// start children of its own that write there) before they remove the
+/// temporary files and directories it may be writing. Returns its exit
+/// status, 128 + the signal that ended it, or -1 when it could not be
+/// started. For a single-threaded caller (the commands, when they render):
+/// signals are held only in the calling thread while it is started, and a
+/// handler run by another thread may reap it first.
 int run_program(const std::vector<std::string>& argv, const std::vector<std::string>& env, int stdout_to = 1);
 
 /// Installs handlers for SIGINT, SIGTERM, SIGHUP and SIGQUIT that stop the
