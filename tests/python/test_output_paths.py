@@ -376,14 +376,19 @@ def test_a_signal_while_the_report_is_rendered_leaves_the_earlier_report(tmp_pat
         # no renderer left writing into the removed directory
         assert _processes_naming(tmp) == [], "renderer processes left"
     finally:
-        # a failure leaves nothing running: the command and its renderer (one session)
-        try:
-            os.killpg(p.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        p.wait()
+        _stop_session(p)
         for pid in _processes_naming(tmp):
             os.kill(int(pid), signal.SIGKILL)
+
+
+def _stop_session(p):
+    """A failed test leaves nothing running: the command started with
+    start_new_session and its renderer (one session, one process group)."""
+    try:
+        os.killpg(p.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    p.wait()
 
 
 def _processes_naming(path):
@@ -469,11 +474,7 @@ def test_an_earlier_report_is_replaced_where_directories_cannot_be_exchanged(tmp
         _, err = p.communicate(timeout=120)
         assert p.returncode == (-signal.SIGTERM if signalled else 0), (p.returncode, err)
     finally:
-        try:
-            os.killpg(p.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        p.wait()
+        _stop_session(p)
     # the new report, whole, and nothing beside it
     assert sorted(os.listdir(rep)) == names
     assert sorted(os.listdir(work)) == ["o.json", "rep"]
