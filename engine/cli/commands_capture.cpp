@@ -16,6 +16,7 @@
 #include "pteromys/capture_render.hpp"
 #include "pteromys/dataset.hpp"
 #include "pteromys/flight.hpp"
+#include "pteromys/io.hpp"
 #include "pteromys/mass.hpp"
 #include "pteromys/track.hpp"
 
@@ -32,14 +33,6 @@ std::string fmt(double v, int prec = 3) {
   return s.str();
 }
 
-bool is_dir(const std::string& p) {
-  struct stat st {};
-  return stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-bool is_file(const std::string& p) {
-  struct stat st {};
-  return stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
 std::string stem(const std::string& path) {
   std::string b = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
   const auto d = b.find('.');
@@ -179,10 +172,7 @@ int run_track(const std::vector<std::string>& argv) {
   const std::string out = a.get("-o");
   if (a.flag("--append") && a.flag("--force")) throw InputError("--append and --force cannot be used together");
   {
-    std::string parent = out;
-    while (parent.size() > 1 && parent.back() == '/') parent.pop_back();
-    const auto slash = parent.find_last_of('/');
-    parent = slash == std::string::npos ? "." : slash == 0 ? "/" : parent.substr(0, slash);
+    const std::string parent = directory_of(strip_slash(out));
     if (!is_dir(parent)) throw InputError("cannot write the dataset '" + out + "': directory '" + parent + "' does not exist");
     if (is_file(out)) throw InputError("cannot write the dataset '" + out + "': it is a file, not a directory");
   }

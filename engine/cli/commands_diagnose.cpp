@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <stdio.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -57,11 +56,6 @@ bool on_off(const Args& a, const std::string& name, bool def) {
   const std::string on = "--" + name, off = "--no-" + name;
   if (a.flag(on) && a.flag(off)) throw InputError(on + " and " + off + " contradict each other");
   return a.flag(on) || (def && !a.flag(off));
-}
-
-bool exists(const std::string& p) {
-  struct stat st {};
-  return stat(p.c_str(), &st) == 0;
 }
 
 /// Directory of the Python package next to this executable (build tree:
@@ -196,8 +190,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (a.has("--json")) check_writable(a.get("--json"), "diagnosis");
   // "rep/" (as completion gives it) names the directory rep: the report is
   // made beside it, in rep.tmp-PID, not inside it
-  std::string report_dir = a.get("--report");
-  while (report_dir.size() > 1 && report_dir.back() == '/') report_dir.pop_back();
+  const std::string report_dir = strip_slash(a.get("--report"));
   if (a.has("--report")) {
     const std::string r = report_dir;
     if (r.empty()) throw InputError("--report needs a directory");

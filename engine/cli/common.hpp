@@ -32,4 +32,12 @@ std::string summary_text(const Flyability& f);
 /// Checks that an output path can be written before long work starts.
 void check_writable(const std::string& path, const std::string& what);
 
+/// Whether `p` exists (links followed); is a directory; is a regular file.
+bool exists(const std::string& p);
+bool is_dir(const std::string& p);
+bool is_file(const std::string& p);
+
+/// `p` without trailing slashes ("rep/" names the directory rep; "/" stays).
+std::string strip_slash(std::string p);
+
 }  // namespace pteromys::cli

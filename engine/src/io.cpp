@@ -301,9 +301,12 @@ int run_program(const std::vector<std::string>& argv, const std::vector<std::str
   posix_spawnattr_t at;
   posix_spawn_file_actions_init(&fa);
   posix_spawnattr_init(&at);
-  if (stdout_to == -2) posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  else if (stdout_to >= 0 && stdout_to != 1) posix_spawn_file_actions_adddup2(&fa, stdout_to, 1);
-  if (stdout_to == -2) posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  if (stdout_to == -2) {
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  } else if (stdout_to >= 0 && stdout_to != 1) {
+    posix_spawn_file_actions_adddup2(&fa, stdout_to, 1);
+  }
   // in this process's group, so that what reaches the group (a terminal's
   // Ctrl-C, Ctrl-Z or hang-up, a SIGKILL to the group) reaches it too, with
   // the default signal dispositions and none blocked
