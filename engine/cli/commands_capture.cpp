@@ -33,13 +33,10 @@ std::string fmt(double v, int prec = 3) {
   return s.str();
 }
 
+/// A file's stem as part of a flight's name or a glider key ("video" if empty).
 std::string stem(const std::string& path) {
-  std::string b = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
-  const auto d = b.find('.');
-  if (d != std::string::npos && d > 0) b = b.substr(0, d);
-  std::string out;
-  for (char c : b) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-  return out.empty() ? "video" : out;
+  const std::string b = safe_name(file_stem(path));
+  return b.empty() ? "video" : b;
 }
 
 Vec2 pair_option(const Args& a, const std::string& key) {

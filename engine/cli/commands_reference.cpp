@@ -19,21 +19,7 @@
 namespace pteromys::cli {
 namespace {
 
-// Key of a glider file: its name without .glider.json / .json.
-std::string key_of(const std::string& path) {
-  std::string n = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
-  for (const char* ext : {".glider.json", ".json"}) {
-    const std::string e = ext;
-    if (n.size() > e.size() && n.compare(n.size() - e.size(), e.size(), e) == 0) {
-      n = n.substr(0, n.size() - e.size());
-      break;
-    }
-  }
-  for (char& c : n)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) c = '_';
-  return n;
-}
-
+// Glider files: the arguments, with each directory's *.glider.json (keys by glider_key_of).
 std::vector<std::string> glider_paths(const std::vector<std::string>& args) {
   std::vector<std::string> out;
   for (const auto& a : args) {
@@ -146,7 +132,7 @@ int run_generate(const std::vector<std::string>& argv) {
 
   // Gliders (validated on loading; messages name the file).
   std::vector<std::pair<std::string, Glider>> gliders;
-  for (const auto& p : glider_paths(a.positional)) gliders.emplace_back(key_of(p), load_glider(p));
+  for (const auto& p : glider_paths(a.positional)) gliders.emplace_back(glider_key_of(p), load_glider(p));
 
   const bool quiet = a.flag("--quiet");
   const auto t0 = std::chrono::steady_clock::now();

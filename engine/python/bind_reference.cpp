@@ -259,13 +259,7 @@ void bind_reference(py::module_& m) {
             gs.emplace_back(t[0].cast<std::string>(), g);
           } else {
             const std::string p = item.cast<std::string>();
-            std::string k = p.substr(p.find_last_of('/') == std::string::npos ? 0 : p.find_last_of('/') + 1);
-            for (const std::string e : {".glider.json", ".json"})
-              if (k.size() > e.size() && k.compare(k.size() - e.size(), e.size(), e) == 0) {
-                k = k.substr(0, k.size() - e.size());
-                break;
-              }
-            gs.emplace_back(k, load_glider(p));
+            gs.emplace_back(glider_key_of(p), load_glider(p));
           }
         }
         if (!(noise_m > 0)) throw InputError("noise_m must be positive (the dataset states the tracking sigma)");

@@ -61,6 +61,34 @@ std::string directory_of(const std::string& path) {
   return slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
 }
 
+std::string file_name(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+std::string file_stem(const std::string& path) {
+  std::string b = file_name(path);
+  const auto dot = b.find('.');
+  if (dot != std::string::npos && dot > 0) b.resize(dot);
+  return b;
+}
+
+std::string safe_name(std::string s, const std::string& keep) {
+  for (char& c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || keep.find(c) != std::string::npos)) c = '_';
+  return s;
+}
+
+std::string glider_key_of(const std::string& path) {
+  std::string n = file_name(path);
+  for (const std::string e : {".glider.json", ".json"})
+    if (n.size() > e.size() && n.compare(n.size() - e.size(), e.size(), e) == 0) {
+      n.resize(n.size() - e.size());
+      break;
+    }
+  return safe_name(n, "-_.");
+}
+
 std::string read_file(const std::string& path) {
   struct stat st {};
   if (stat(path.c_str(), &st) != 0) throw InputError("cannot read '" + path + "': no such file");

@@ -162,9 +162,7 @@ bool is_file(const std::string& p) {
   return stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 std::string base_stem(const std::string& path) {
-  std::string b = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
-  const auto dot = b.find('.');
-  if (dot != std::string::npos && dot > 0) b = b.substr(0, dot);
+  const std::string b = file_stem(path);
   return b.empty() ? "video" : b;
 }
 }  // namespace

@@ -13,6 +13,8 @@ progress through a callback. Usable from the console, macros and
 The GUI command (``diagnose_gui.py``) adds the file dialog, a progress dialog
 with a Cancel button and opens ``index`` in FreeCAD's browser.
 """
+import ctypes
+import errno
 import json
 import os
 import shutil
@@ -63,18 +65,58 @@ def run_diagnosis(dataset, report_dir=None, progress=None, **options):
         with open(os.path.join(tmp, "diagnosis.json"), "w") as f:
             json.dump(result, f, indent=1)
         pt.diagnosis_report(result, tmp)
-        old = None
         refuse_foreign_dir()  # again: it may have changed during the run
-        if os.path.exists(report_dir):
-            old = report_dir + ".old-%d" % os.getpid()
-            os.replace(report_dir, old)
-        os.replace(tmp, report_dir)
-        if old:
-            shutil.rmtree(old, ignore_errors=True)
+        if os.path.lexists(report_dir) and _exchange(tmp, report_dir):
+            # One step: the earlier report is now at tmp, removed below.
+            shutil.rmtree(tmp, ignore_errors=True)
+        else:
+            _replace_aside(tmp, report_dir)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return result, os.path.join(report_dir, "index.html")
+
+
+_RENAME_EXCHANGE = 2  # linux/fs.h
+_AT_FDCWD = -100
+
+
+def _exchange(a, b):
+    """Swap directories ``a`` and ``b`` in one step (Linux ``renameat2``
+    with RENAME_EXCHANGE, as the command line does). False where the C
+    library or the file system cannot (the caller then moves aside);
+    other errors are raised."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    if fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    e = ctypes.get_errno()
+    if e in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.ENOTSUP):
+        return False
+    raise OSError(e, "cannot put the report in place: %s" % os.strerror(e), b)
+
+
+def _replace_aside(tmp, report_dir):
+    """Move an earlier report aside, ``tmp`` into its place, then remove
+    the earlier one; if the second move fails the earlier report is put
+    back, so one of the two is always at ``report_dir``."""
+    old = None
+    if os.path.lexists(report_dir):
+        old = report_dir + ".old-%d" % os.getpid()
+        os.replace(report_dir, old)
+    try:
+        os.replace(tmp, report_dir)
+    except BaseException:
+        if old:
+            os.replace(old, report_dir)
+        raise
+    if old:
+        shutil.rmtree(old, ignore_errors=True)
 
 
 def second_search_options(result):

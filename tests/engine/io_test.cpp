@@ -267,3 +267,23 @@ TEST(OutputPaths, RunProgramReportsTheExitStatus) {
   EXPECT_EQ(run_program({"/no/such/program"}, {}), -1);  // could not be started
   EXPECT_EQ(run_program({"/bin/sh", "-c", "kill -TERM $$"}, {}), 128 + SIGTERM);
 }
+
+// The path helpers every command shares (as basename(1) and dirname(1) would
+// split the names, worked by hand), and the key a glider file gets.
+TEST(OutputPaths, FileNamesStemsAndGliderKeys) {
+  EXPECT_EQ(directory_of("a/b/c.txt"), "a/b");
+  EXPECT_EQ(directory_of("c.txt"), ".");
+  EXPECT_EQ(directory_of("/c.txt"), "/");
+  EXPECT_EQ(file_name("a.d/b/c.tar.gz"), "c.tar.gz");
+  EXPECT_EQ(file_name("c"), "c");
+  EXPECT_EQ(file_name("a/"), "");
+  EXPECT_EQ(file_stem("clips.2026/throw.2.avi"), "throw");  // a dot in the directory is not the stem's
+  EXPECT_EQ(file_stem(".avi"), ".avi");
+  EXPECT_EQ(file_stem("a/"), "");
+  EXPECT_EQ(safe_name("my glider, v2"), "my_glider__v2");
+  EXPECT_EQ(safe_name("t01-a_b.c", "-_"), "t01-a_b_c");
+  EXPECT_EQ(glider_key_of("x/t01-rectangular.glider.json"), "t01-rectangular");
+  EXPECT_EQ(glider_key_of("x/wing.v2.json"), "wing.v2");
+  EXPECT_EQ(glider_key_of("my glider, v2.glider.json"), "my_glider__v2");
+  EXPECT_EQ(glider_key_of("x/.json"), ".json");  // nothing would be left: kept whole
+}

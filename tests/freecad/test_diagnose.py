@@ -152,3 +152,60 @@ RESULT["steps"] = steps
     assert os.listdir(report) == ["notes.txt"] and (report / "notes.txt").read_text() == "keep me"
     assert sorted(os.listdir(tmp_path / "flights")) == sorted(["dataset.json", "flights.csv", "generation.json",
                                                               "gliders", "diagnosis"])
+
+
+def test_an_earlier_report_is_replaced_whole_and_kept_when_the_move_fails(fc, tmp_path):
+    """A second run replaces the earlier report in one step (renameat2's
+    exchange, as the command line does), leaving nothing beside it; where the
+    exchange is not available the earlier report is moved aside instead, and
+    if moving the new one in then fails the earlier one is put back whole."""
+    ds = _dataset(tmp_path)
+    report = tmp_path / "flights" / "diagnosis"
+    report.mkdir()
+    (report / "index.html").write_text("OLD")
+    (report / "report.md").write_text("OLD")
+    res = fc('''
+import os
+import pteromys_freecad.diagnose as pd
+result, index = pd.run_diagnosis(%r, folds=3, max_centres=1, effects=["wind"], threads=2)
+RESULT["new_index"] = open(index).read()[:200]
+RESULT["listing"] = sorted(os.listdir(os.path.dirname(%r)))
+# the exchange itself, on two plain directories
+swap = %r
+os.mkdir(swap)
+a, b = swap + "/a", swap + "/b"
+for d, t in ((a, "A"), (b, "B")):
+    os.mkdir(d)
+    open(os.path.join(d, "f"), "w").write(t)
+RESULT["exchanged"] = pd._exchange(a, b)
+RESULT["after_exchange"] = (open(a + "/f").read(), open(b + "/f").read())
+# the fallback: no exchange; the second move fails -> the earlier report is back
+calls = []
+real = os.replace
+def failing_second(src, dst):
+    calls.append((src, dst))
+    if len(calls) == 2:
+        raise OSError(28, "No space left on device")
+    return real(src, dst)
+os.replace = failing_second
+try:
+    pd._replace_aside(a, b)
+    RESULT["fallback_error"] = None
+except OSError as e:
+    RESULT["fallback_error"] = str(e)
+finally:
+    os.replace = real
+RESULT["after_failed_fallback"] = (open(a + "/f").read(), open(b + "/f").read(), sorted(os.listdir(swap)))
+pd._replace_aside(a, b)
+RESULT["after_fallback"] = (os.path.exists(a), open(b + "/f").read(), sorted(os.listdir(swap)))
+''' % (str(ds), str(report), str(tmp_path / "swap")), timeout=600)
+    assert "OLD" not in res["new_index"] and "<html" in res["new_index"].lower(), res["new_index"]
+    # nothing left beside the report: no moved-aside or temporary directory
+    assert res["listing"] == sorted(["dataset.json", "flights.csv", "generation.json", "gliders", "diagnosis"])
+    assert (report / "diagnosis.json").is_file()
+    assert res["exchanged"] is True and res["after_exchange"] == ["B", "A"]
+    assert res["fallback_error"] and "No space left" in res["fallback_error"]
+    # both directories whole again, and nothing moved aside left over
+    assert res["after_failed_fallback"][:2] == ["B", "A"]
+    assert res["after_failed_fallback"][2] == ["a", "b"]
+    assert res["after_fallback"] == [False, "B", ["b"]]

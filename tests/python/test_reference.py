@@ -197,6 +197,24 @@ def test_generate_from_python_matches_the_command(generated, tmp_path):
     assert open(tmp_path / "py" / "flights.csv").read() == open(out / "flights.csv").read()
 
 
+def test_a_glider_file_name_with_odd_characters_gives_the_same_safe_key_from_python_and_the_command(tmp_path):
+    """The dataset's glider key comes from the file name; a comma or a space
+    in it would break flights.csv, so both the command and the binding (which
+    had its own copy of the rule and kept them) write it as '_'. The dataset
+    then loads back and its flights name that key."""
+    odd = tmp_path / "my glider, v2.glider.json"
+    odd.write_text(open(CANARD).read())
+    r = run(["generate", odd, "-o", tmp_path / "cli", "--flights-per-glider", "2", "--quiet"])
+    assert r.returncode == 0, r.stderr
+    pteromys.generate_dataset([str(odd)], str(tmp_path / "py"), flights_per_glider=2)
+    for d in ("cli", "py"):
+        ds = json.load(open(tmp_path / d / "dataset.json"))
+        assert list(ds["gliders"]) == ["my_glider__v2"], ds["gliders"]
+        rows, _ = read_csv(tmp_path / d / "flights.csv")
+        assert {q["glider"] for q in rows} == {"my_glider__v2"}
+    assert open(tmp_path / "py" / "flights.csv").read() == open(tmp_path / "cli" / "flights.csv").read()
+
+
 def test_generated_noise_matches_sigma(tmp_path):
     """The difference between a noisy and a noise-free recording of the same
     seed is the tracking noise: standard deviation sigma (chi-square, +-10 %)."""

@@ -97,6 +97,22 @@ bool rename_temp_into_place(const std::string& tmp, const std::string& path);
 /// root (as dirname(1), without resolving links).
 std::string directory_of(const std::string& path);
 
+/// The last component of a path ("a/b.c" -> "b.c"; a bare name as it is).
+std::string file_name(const std::string& path);
+
+/// file_name up to its first dot ("clips/throw.2.avi" -> "throw"); a name
+/// that starts with its only dot (".avi") is kept whole. May be empty.
+std::string file_stem(const std::string& path);
+
+/// `s` with every character other than an ASCII letter, a digit or one of
+/// `keep` replaced by '_' (names that go into CSV cells and file names).
+std::string safe_name(std::string s, const std::string& keep = "-_");
+
+/// A glider's key in a dataset from its file's path: the file name without
+/// `.glider.json` (or `.json`), with characters other than letters, digits,
+/// '-', '_' and '.' as '_' (so it fits a CSV cell).
+std::string glider_key_of(const std::string& path);
+
 /// Records a temporary directory being filled (a report or a dataset written
 /// beside its place and renamed into it), so that the signal handlers of
 /// remove_temp_files_on_signal remove it with everything in it.
