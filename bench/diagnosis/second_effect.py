@@ -27,7 +27,7 @@ and for every run whose verdict names an effect:
 It reads stored results only; it cannot say what the diagnosis would have
 fitted under another rule.
 
-    /usr/bin/python3 bench/diagnosis/second_effect.py [--all]
+    /usr/bin/python3 bench/diagnosis/second_effect.py [--all] [ROOT ...] [--escalated ROOT]
 """
 import argparse
 import gzip
@@ -71,11 +71,15 @@ def names(also):
     return [a if isinstance(a, str) else a.get("name") for a in also or []]
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("roots", nargs="*", help="archives of first searches (COMMIT/CASE.diagnosis.json.gz; "
+                    "default: bench/diagnosis/runs and, as second searches, runs-escalate)")
+    ap.add_argument("--escalated", action="append", default=[], help="an archive of second searches")
     ap.add_argument("--all", action="store_true", help="print every candidate, not only the ten largest shares")
-    args = ap.parse_args()
-    runs = latest_runs([(ARCHIVE, False), (ARCHIVE_ESCALATE, True)])
+    args = ap.parse_args(argv)
+    roots = [(r, False) for r in args.roots] + [(r, True) for r in args.escalated]
+    runs = latest_runs(roots or [(ARCHIVE, False), (ARCHIVE_ESCALATE, True)])
     named, with_also, rows = 0, [], []
     for (name, escalated), (commit, path) in sorted(runs.items()):
         case = case_of(name)

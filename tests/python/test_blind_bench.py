@@ -10,6 +10,7 @@ counts against tables worked out by hand from made-up diagnosis results.
 """
 import collections
 import importlib.util
+import gzip
 import json
 import math
 import os
@@ -1296,3 +1297,41 @@ def test_the_documented_fold_guard_counts_are_the_archives():
     rows = vf.named_runs(rb.ARCHIVE)
     (_, s15, w15, l15, r15), (_, s20, w20, l20, r20) = vf.sweep(rows, thresholds=(1.5, 2.0))
     assert [int(x) for x in m.groups()] == [len(rows), s15, w15, l15, r15, s20, w20, l20, r20]
+
+
+# bench/diagnosis/second_effect.py: the second round's standard replayed on
+# the archive, with the share of the remaining excess a candidate closes.
+def _archived(root, commit, name, verdict, also, given, noise=0.01):
+    d = root / commit
+    d.mkdir(parents=True, exist_ok=True)
+    effects = [{"name": verdict}] + [
+        {"name": n, "given_verdict": {"holdout_rmse_m": re, "shrink": sh, "significant": n in also, "plausible": True,
+                                      "robust_pass": True, "bound_pass": True,
+                                      "cross_validation": {"delta_chi2": dc, "threshold": 10.0}}}
+        for n, re, sh, dc in given]
+    with gzip.open(d / (name + ".diagnosis.json.gz"), "wt") as f:
+        json.dump({"verdict": verdict, "also": also, "baseline": {"noise_rmse_m": noise}, "effects": effects}, f)
+
+
+def test_second_effect_replay_shares_of_the_excess_worked_by_hand(tmp_path, capsys):
+    # Noise 1 cm, the verdict's held-out RMSE 1.25 cm (rB^2 - noise^2 =
+    # 0.5625 cm^2). The camera given finite span at 1.15 cm (shrink 8 %):
+    # (1.5625 - 1.3225) / 0.5625 = 42.67 % of the excess, and wrong (in
+    # `also`). On the two-effect case the camera given the wind at 1.23 cm
+    # (shrink 1.6 %): (1.5625 - 1.5129) / 0.5625 = 8.82 %, in the truth.
+    # Added mass passes no held-out test (delta chi2 5 < 10): not counted.
+    se = _bench_module("second_effect")
+    runs = tmp_path / "runs"
+    _archived(runs, "c1", "finite_span-1-s50", "finite_span", ["camera"],
+              [("camera", 0.0115, 0.08, 40.0), ("added_mass", 0.0120, 0.04, 5.0)])
+    _archived(runs, "c1", "wind+camera-s41", "wind", [], [("camera", 0.0123, 0.016, 20.0)])
+    _archived(runs, "c1", "null-s99", "none", [], [])
+    se.main([str(runs)])
+    out = capsys.readouterr().out
+    assert out.startswith("2 archived runs name an effect")
+    assert "runs with a second effect in `also` (the standard as built): 1" in out
+    assert "finite_span-1-s50" in out and "WRONG (truth finite_span)" in out
+    assert "pass the held-out test and the guards: 2 (1 in the truth, 1 not)" in out
+    assert "42.7%" in out and "8.8%" in out
+    assert "standard of  5 % would pass 1 of 1 wrong candidates and 1 of 1 true ones" in out
+    assert "standard of 10 % would pass 1 of 1 wrong candidates and 0 of 1 true ones" in out
