@@ -232,6 +232,8 @@ int run_track(const std::vector<std::string>& argv) {
     topt.min_points = static_cast<int>(m);
   }
   topt.name_prefix = a.get("--name", key + "-" + stem(video));
+  if (!valid_flight_prefix(topt.name_prefix))
+    throw InputError("--name must be 1-100 letters, digits, '-', '_' or '.' (it names the flights in flights.csv)");
 
   Progress prog{"detect"};
   prog.quiet = a.flag("--quiet");

@@ -14,6 +14,7 @@ int run_evaluate(const std::vector<std::string>& argv) {
   const Args a = parse_args(argv, valued, {"--quiet"});
   if (a.has("--json")) check_writable(a.get("--json"), "report");
   if (a.has("--csv")) check_writable(a.get("--csv"), "trajectories");
+  check_setup_outputs(a, {{"the report", "--json"}, {"the trajectories", "--csv"}});
   Setup s = load_setup(a);
   const MountedGlider mg = mount(s.glider, s.model, s.env, s.aero);
   std::vector<std::string> names;
@@ -23,9 +24,11 @@ int run_evaluate(const std::vector<std::string>& argv) {
   nlohmann::json j = report_to_json(f);
   j["glider"] = s.glider.name;
   j["model"] = s.model->kind();
-  if (a.has("--json")) write_file_atomic(a.get("--json"), j.dump(2) + "\n");
-  else std::cout << j.dump(2) << "\n";
-  if (a.has("--csv")) write_file_atomic(a.get("--csv"), trajectories_csv(f));
+  std::vector<std::pair<std::string, std::string>> outputs;
+  if (a.has("--json")) outputs.emplace_back(a.get("--json"), j.dump(2) + "\n");
+  if (a.has("--csv")) outputs.emplace_back(a.get("--csv"), trajectories_csv(f));
+  if (!outputs.empty()) write_files_together(outputs);
+  if (!a.has("--json")) std::cout << j.dump(2) << "\n";
   if (a.has("--json") && !a.flag("--quiet")) std::cout << summary_text(f);
   return 0;
 }
@@ -36,6 +39,7 @@ int run_simulate(const std::vector<std::string>& argv) {
   const Args a = parse_args(argv, valued, {});
   if (!a.has("--csv")) throw InputError("missing --csv OUT (see --help)");
   check_writable(a.get("--csv"), "trajectories");
+  check_setup_outputs(a, {{"the trajectories", "--csv"}});
   Setup s = load_setup(a);
   const double every = a.number("--every", 5);
   if (!(every >= 1) || every > 1e6 || every != std::floor(every))  // 2.5 used to be cut to 2

@@ -196,6 +196,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
     if (r.empty()) throw InputError("--report needs a directory");
     if (r == "/" || r == "." || r == "..")
       throw InputError("cannot write report '" + r + "': a report replaces its directory; name a new one");
+    if (exists(r) && !is_dir(r))
+      throw InputError("cannot write report '" + r + "': it exists and is not a directory");
     const auto p = std::filesystem::path(r).parent_path();
     const std::string parent = p.empty() ? std::string(".") : p.string();
     if (!std::filesystem::is_directory(parent))
@@ -250,7 +252,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.sim.ground_y = a.number("--ground-y", 0.0);
   if (!std::isfinite(o.sim.ground_y)) throw InputError("--ground-y must be a number");
   o.sim.dt = a.number("--dt", o.sim.dt);
-  if (!(o.sim.dt > 0) || o.sim.dt > 0.05) throw InputError("--dt must be in (0, 0.05] s");
+  if (!(o.sim.dt >= 1e-5) || o.sim.dt > 0.05) throw InputError("--dt must be in [1e-05, 0.05] s");
   o.sim.aero.dz = a.number("--dz", o.sim.aero.dz);
   if (!(o.sim.aero.dz > 0) || o.sim.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
   o.sim.max_iterations = a.whole("--iterations", o.sim.max_iterations, 1, 1000);
@@ -284,6 +286,15 @@ int run_diagnose(const std::vector<std::string>& argv) {
 
   const std::string path = a.positional[0];
   const Dataset d = load_dataset(path);
+  {
+    std::vector<NamedPath> in;
+    for (const auto& f : dataset_files(path, d)) in.push_back({"an input of the dataset", f});
+    if (a.has("--model")) in.push_back({"the model", a.get("--model")});
+    std::vector<NamedPath> out;
+    if (a.has("--json")) out.push_back({"the diagnosis", a.get("--json")});
+    if (a.has("--report")) out.push_back({"the report", report_dir});
+    check_distinct_outputs(out, in);
+  }
   const bool quiet = a.flag("--quiet");
   if (!quiet) {
     // leave-gliders-out: at most one fold per glider with flights

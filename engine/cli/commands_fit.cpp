@@ -69,7 +69,8 @@ int run_fit(const std::vector<std::string>& argv) {
   opt.aero.dz = a.number("--dz", opt.aero.dz);
   if (!(opt.aero.dz > 0) || opt.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
   opt.launch.track.sim.dt = a.number("--dt", opt.launch.track.sim.dt);
-  if (!(opt.launch.track.sim.dt > 0) || opt.launch.track.sim.dt > 0.05) throw InputError("--dt must be in (0, 0.05] s");
+  if (!(opt.launch.track.sim.dt >= 1e-5) || opt.launch.track.sim.dt > 0.05)
+    throw InputError("--dt must be in [1e-05, 0.05] s");
   const std::string integ = a.get("--integrator", "verlet");
   if (integ == "verlet") opt.launch.track.sim.integrator = Integrator::Verlet;
   else if (integ == "rk4") opt.launch.track.sim.integrator = Integrator::RK4;
@@ -93,6 +94,16 @@ int run_fit(const std::vector<std::string>& argv) {
   Dataset holdout;
   const bool has_holdout = a.has("--holdout");
   if (has_holdout) holdout = load_dataset(a.get("--holdout"));
+  {
+    std::vector<NamedPath> in;
+    for (const auto& f : dataset_files(dataset_path, d)) in.push_back({"an input of the dataset", f});
+    if (has_holdout)
+      for (const auto& f : dataset_files(a.get("--holdout"), holdout)) in.push_back({"an input of --holdout", f});
+    if (a.has("--model")) in.push_back({"the start model", a.get("--model")});
+    std::vector<NamedPath> out{{"the model", a.get("-o")}};
+    if (a.has("--json")) out.push_back({"the report", a.get("--json")});
+    check_distinct_outputs(out, in);
+  }
 
   const bool quiet = a.flag("--quiet");
   if (!quiet)
@@ -157,8 +168,11 @@ int run_fit(const std::vector<std::string>& argv) {
                          {"flights", r.flights.size()},
                          {"points", r.points}};
   if (a.has("--note")) model["provenance"]["note"] = a.get("--note");
-  write_file_atomic(a.get("-o"), model.dump(2) + "\n");
-  if (a.has("--json")) write_file_atomic(a.get("--json"), report.dump(2) + "\n");
+  // the model and its report together: a report that cannot be written
+  // (a full disk) leaves no new model either
+  std::vector<std::pair<std::string, std::string>> outputs{{a.get("-o"), model.dump(2) + "\n"}};
+  if (a.has("--json")) outputs.emplace_back(a.get("--json"), report.dump(2) + "\n");
+  write_files_together(outputs);
   if (!quiet) {
     std::cout << "fitted " << r.model->centres().size() << " centres to " << r.flights.size() << " flights ("
               << r.points << " points): RMSE " << r.rmse_m << " m (flat-plate prior " << r.prior_rmse_m << " m) in "

@@ -28,6 +28,7 @@ int run_optimize(const std::vector<std::string>& argv) {
   check_writable(a.get("-o"), "glider");
   if (a.has("--json")) check_writable(a.get("--json"), "report");
   if (a.has("--csv")) check_writable(a.get("--csv"), "trajectories");
+  check_setup_outputs(a, {{"the optimised glider", "-o"}, {"the report", "--json"}, {"the trajectories", "--csv"}});
   Setup s = load_setup(a);
   OptimizeOptions opt;
   opt.analysis = s.analysis;
@@ -61,7 +62,6 @@ int run_optimize(const std::vector<std::string>& argv) {
   range("--angle-range", opt.angle_min_deg, opt.angle_max_deg, 1.0);
   if (!(opt.region.v_min > 0)) throw InputError("--speed-range must be positive speeds");
   const OptimizeResult r = optimize(s.glider, s.model, opt, s.env, s.aero);
-  save_glider(r.glider, a.get("-o"));
   nlohmann::json j = report_to_json(r.report);
   j["glider"] = s.glider.name;
   j["model"] = s.model->kind();
@@ -75,8 +75,12 @@ int run_optimize(const std::vector<std::string>& argv) {
   for (const auto& v : r.variables)
     j["optimisation"]["variables"].push_back(
         {{"name", v.name}, {"value", v.value}, {"lower", v.lower}, {"upper", v.upper}, {"locked", v.locked}});
-  if (a.has("--json")) write_file_atomic(a.get("--json"), j.dump(2) + "\n");
-  if (a.has("--csv")) write_file_atomic(a.get("--csv"), trajectories_csv(r.report));
+  // the glider and its report together: one that cannot be written leaves
+  // none changed
+  std::vector<std::pair<std::string, std::string>> outputs{{a.get("-o"), glider_to_json(r.glider).dump(2) + "\n"}};
+  if (a.has("--json")) outputs.emplace_back(a.get("--json"), j.dump(2) + "\n");
+  if (a.has("--csv")) outputs.emplace_back(a.get("--csv"), trajectories_csv(r.report));
+  write_files_together(outputs);
   if (!a.flag("--quiet")) {
     std::cout << "optimised " << r.variables.size() << " variables in " << r.evaluations << " cost evaluations ("
               << r.seconds * 1000 << " ms); cost " << r.cost_start.total << " -> " << r.cost.total << "\n";

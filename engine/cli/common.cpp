@@ -3,6 +3,7 @@
 #include "pteromys/io.hpp"
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstdio>
 #include <sstream>
 #include <sys/stat.h>
@@ -33,7 +34,8 @@ Setup load_setup(const Args& a) {
   if (!(s.analysis.launch_height >= 0) || s.analysis.launch_height > 100)
     throw InputError("--height must be between 0 and 100 m");
   s.analysis.sim.dt = a.number("--dt", s.analysis.sim.dt);
-  if (!(s.analysis.sim.dt > 0) || s.analysis.sim.dt > 0.05) throw InputError("--dt must be in (0, 0.05] s");
+  if (!(s.analysis.sim.dt >= 1e-5) || s.analysis.sim.dt > 0.05)
+    throw InputError("--dt must be in [1e-05, 0.05] s");
   const std::string integ = a.get("--integrator", "verlet");
   if (integ == "verlet") s.analysis.sim.integrator = Integrator::Verlet;
   else if (integ == "rk4") s.analysis.sim.integrator = Integrator::RK4;
@@ -84,6 +86,55 @@ void check_writable(const std::string& path, const std::string& what) {
     throw InputError("cannot write " + what + " '" + path + "': '" + dir + "' is not a directory" + via);
   if (access(dir.c_str(), W_OK | X_OK) != 0)
     throw InputError("cannot write " + what + " '" + path + "': directory '" + dir + "' is not writable" + via);
+}
+
+namespace {
+/// Identity of a path for check_distinct_outputs: "" for a device, pipe or
+/// socket; else the device and inode of an existing file or directory, or the
+/// resolved directory and name of one that does not exist yet.
+std::string path_identity(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (!S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) return "";
+    return "i" + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+  }
+  std::string target = path;
+  try {
+    target = output_target(path);
+  } catch (const InputError&) {
+    return "p" + path;
+  }
+  const std::string dir = directory_of(target);
+  char* real = ::realpath(dir.c_str(), nullptr);
+  const std::string r = real ? std::string(real) : dir;
+  std::free(real);
+  return "p" + r + "/" + file_name(target);
+}
+}  // namespace
+
+void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+  std::vector<std::string> ids;
+  for (const auto& o : outputs) ids.push_back(o.path.empty() ? "" : path_identity(o.path));
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    if (ids[i].empty()) continue;
+    for (const auto& in : inputs)
+      if (!in.path.empty() && path_identity(in.path) == ids[i])
+        throw InputError("cannot write " + outputs[i].what + " '" + outputs[i].path + "': it is " + in.what + " '" +
+                         in.path + "', which the command reads; write it elsewhere");
+    for (std::size_t j = 0; j < i; ++j)
+      if (ids[j] == ids[i])
+        throw InputError("cannot write " + outputs[i].what + " '" + outputs[i].path + "': it is the same file as " +
+                         outputs[j].what + " '" + outputs[j].path + "'; give each output its own file");
+  }
+}
+
+void check_setup_outputs(const Args& a, const std::vector<NamedPath>& output_options) {
+  std::vector<NamedPath> in, out;
+  if (!a.positional.empty()) in.push_back({"the glider", a.positional[0]});
+  if (a.has("--model")) in.push_back({"the model", a.get("--model")});
+  for (const auto& o : output_options)
+    if (a.has(o.path)) out.push_back({o.what + " (" + o.path + ")", a.get(o.path)});
+  check_distinct_outputs(out, in);
 }
 
 bool exists(const std::string& p) {

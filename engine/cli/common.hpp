@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "args.hpp"
 #include "pteromys/analysis.hpp"
@@ -31,6 +32,24 @@ std::string summary_text(const Flyability& f);
 
 /// Checks that an output path can be written before long work starts.
 void check_writable(const std::string& path, const std::string& what);
+
+/// A named path of a command: what it is ("the model", "--json") and where.
+struct NamedPath {
+  std::string what, path;
+};
+
+/// Refuses, before long work starts, an output that is one of the inputs
+/// (`fit DATA/dataset.json -o DATA/dataset.json` would replace the dataset)
+/// or the same file as another output (`-o X --json X` would keep only the
+/// last). Files are compared by identity where they exist (links and
+/// different spellings of a path included) and by their resolved path where
+/// they do not yet; devices and pipes (/dev/null, /dev/stdout) are exempt.
+void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
+
+/// check_distinct_outputs for a command on one glider (load_setup's inputs:
+/// the glider file and --model) writing the given (what, option) outputs
+/// that the command line has.
+void check_setup_outputs(const Args& a, const std::vector<NamedPath>& output_options);
 
 /// Whether `p` exists (links followed); is a directory; is a regular file.
 bool exists(const std::string& p);

@@ -33,14 +33,15 @@ double element_spacing(double dz);
 /// The standard launches' height [m] if in [0, 100], as the commands'
 /// --height; otherwise InputError "height must be between 0 and 100 m".
 double launch_height(double height);
-/// A simulation step [s] if in (0, 0.05], as every command's --dt; otherwise
-/// InputError "dt must be in (0, 0.05] s".
+/// A simulation step [s] if in [1e-5, 0.05], as every command's --dt (a
+/// smaller one would run for hours); otherwise InputError "dt must be in
+/// [1e-05, 0.05] s".
 double time_step(double dt);
 /// One launch from Python keywords (simulate, reference_simulate): every
 /// value finite, speed and height not negative; pitch_deg None = along the path.
 Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,
                   double pitch_rate_deg_s);
-/// Simulation options from Python keywords: dt in (0, 0.05] s, t_max in
+/// Simulation options from Python keywords: dt in [1e-5, 0.05] s, t_max in
 /// (0, 600] s, record_every >= 1, integrator "verlet" or "rk4".
 SimOptions sim_options(double dt, double t_max, const std::string& integrator, int record_every);
 /// A flight as the dict of pteromys.simulate (samples, stable, reason, ...).

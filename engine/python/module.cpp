@@ -43,7 +43,7 @@ double launch_height(double v) {
 }
 
 double time_step(double dt) {
-  if (!(dt > 0) || dt > 0.05) throw InputError("dt must be in (0, 0.05] s");
+  if (!(dt >= 1e-5) || dt > 0.05) throw InputError("dt must be in [1e-05, 0.05] s");
   return dt;
 }
 
@@ -131,7 +131,9 @@ PYBIND11_MODULE(_core, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
-      PyErr_SetString(input_error.ptr(), e.what());
+      // as text Python can hold: a message quoting a non-UTF-8 name would
+      // otherwise arrive empty
+      PyErr_SetString(input_error.ptr(), printable_utf8(e.what()).c_str());
     }
   });
   m.attr("__version__") = kVersion;

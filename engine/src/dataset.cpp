@@ -1,6 +1,8 @@
 #include "pteromys/dataset.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <set>
 #include <sstream>
 #include <sys/stat.h>
@@ -76,6 +78,14 @@ constexpr double kMaxFlightS = 60.0;        ///< first to last tracked point of 
 constexpr double kMaxGapS = 2.0;            ///< between two tracked points of a flight [s]
 constexpr double kMaxPositionM = 10000.0;   ///< |x|, |y| of a tracked point [m]
 constexpr double kMaxTrackingSigmaM = 10.0; ///< tracking noise [m]
+constexpr double kMinTrackingSigmaM = 1e-9; ///< below it the noise's square underflows the chi-square sums
+// Where hand-launched gliders fly (a unit slip, g in cm/s^2 or a density in
+// g/m^3, makes fits that report nonsense or overflow): the Moon's gravity to
+// Jupiter's, and air from 15 km up to twice sea level's density and
+// viscosity ranges that cover every gas a glider could fly in.
+constexpr double kGravityRange[2] = {1.0, 30.0};         ///< [m/s^2]
+constexpr double kAirDensityRange[2] = {0.1, 5.0};       ///< [kg/m^3]
+constexpr double kAirViscosityRange[2] = {1e-6, 1e-3};   ///< [Pa s]
 
 }  // namespace
 
@@ -89,6 +99,17 @@ std::vector<std::string> dataset_problems(const Dataset& d) {
   if (d.tracking_sigma_m > kMaxTrackingSigmaM && std::isfinite(d.tracking_sigma_m))
     out.push_back("tracking_sigma_m is " + short_num(d.tracking_sigma_m) + " m: the tracking noise is in metres (at most " +
                   short_num(kMaxTrackingSigmaM) + " m is read)");
+  if (d.tracking_sigma_m > 0 && d.tracking_sigma_m < kMinTrackingSigmaM)
+    out.push_back("tracking_sigma_m is " + short_num(d.tracking_sigma_m) + " m: the tracking noise is in metres (at least " +
+                  short_num(kMinTrackingSigmaM) + " m is read)");
+  auto in_range = [&](double v, const double (&r)[2], const std::string& key, const std::string& what) {
+    if (std::isfinite(v) && v > 0 && (v < r[0] || v > r[1]))
+      out.push_back(key + " is " + short_num(v) + ": " + what + " (" + short_num(r[0]) + " to " + short_num(r[1]) +
+                    " is read)");
+  };
+  in_range(d.gravity, kGravityRange, "gravity_m_s2", "gravity is in m/s^2, 9.81 on Earth");
+  in_range(d.air_density, kAirDensityRange, "air.density_kg_m3", "the air's density is in kg/m^3, 1.2 at sea level");
+  in_range(d.air_viscosity, kAirViscosityRange, "air.viscosity_pa_s", "the air's viscosity is in Pa s, 1.8e-05 for air");
   std::set<std::string> names;
   for (const auto& f : d.flights) {
     const std::string w = "flight '" + f.name + "'";
@@ -132,6 +153,13 @@ std::vector<std::string> dataset_problems(const Dataset& d) {
       out.push_back(gap);
   }
   if (d.flights.empty()) out.push_back("the dataset has no flights");
+  return out;
+}
+
+std::vector<std::string> dataset_files(const std::string& dataset_json, const Dataset& d) {
+  const std::string dir = directory_of(dataset_json);
+  std::vector<std::string> out{dataset_json, join(dir, d.flights_csv)};
+  for (const auto& [k, f] : d.glider_files) out.push_back(join(dir, f));
   return out;
 }
 
@@ -179,7 +207,18 @@ Dataset load_dataset(const std::string& path) {
   d.gravity = num("gravity_m_s2", 9.81, j, "");
 
   const std::string csv_path = join(dir, d.flights_csv);
-  std::stringstream csv(read_file(csv_path));
+  const std::string csv_text = read_file(csv_path);
+  // Names go into JSON results and reports, which hold UTF-8 only: a file
+  // saved in another encoding (Latin-1 from a spreadsheet) is named here,
+  // not after the whole fit.
+  if (const auto bad = first_invalid_utf8(csv_text); bad != std::string::npos) {
+    const long ln = 1 + std::count(csv_text.begin(), csv_text.begin() + bad, '\n');
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(csv_text[bad]));
+    throw InputError(csv_path + " line " + std::to_string(ln) + ": byte " + hex +
+                     " is not UTF-8 text; save the file as UTF-8");
+  }
+  std::stringstream csv(csv_text);
   std::string line;
   long lineno = 0;
   auto where = [&](long ln) { return csv_path + " line " + std::to_string(ln); };

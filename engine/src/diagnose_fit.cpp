@@ -262,7 +262,16 @@ struct FitContext {
     lo.robust_m = 0;
     lo.track = s.topt;
     lo.max_evaluations = 400;
-    LaunchParams guess = initial_launch_guess(pts, std::min<int>(6, pts.size()));
+    LaunchParams guess;
+    try {
+      guess = initial_launch_guess(pts, std::min<int>(6, pts.size()));
+    } catch (const InputError&) {
+      // A camera candidate's trial roll and scale can turn the first points
+      // backwards (an outlier among them): start from the recorded points,
+      // which were checked to move along +x, and let the fit move it.
+      const auto& rec = D.dataset().flights[fi].points;
+      guess = initial_launch_guess(rec, std::min<int>(6, rec.size()));
+    }
     guess.pitch_rate = s.ev.launch_rotation;
     LaunchFit best;
     best.rmse_m = std::numeric_limits<double>::infinity();
@@ -356,7 +365,7 @@ DiagnosisData::DiagnosisData(const Dataset& d, const DiagFitOptions& o) : d_(d),
   const auto problems = dataset_problems(d);
   if (!problems.empty()) throw InputError("invalid dataset: " + problems.front());
   if (!(d.tracking_sigma_m > 0)) throw InputError("the dataset's tracking_sigma_m must be positive");
-  if (!(o.dt > 0) || o.dt > 0.05) throw InputError("the simulation step must be in (0, 0.05] s");
+  if (!(o.dt >= 1e-5) || o.dt > 0.05) throw InputError("the simulation step must be in [1e-05, 0.05] s");
   if (!std::isfinite(o.ground_y)) throw InputError("the ground height must be a finite number");
   threads_ = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
   impl_ = std::make_shared<Impl>();

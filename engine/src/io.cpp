@@ -61,6 +61,61 @@ std::string directory_of(const std::string& path) {
   return slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
 }
 
+namespace {
+/// Length of the well-formed UTF-8 sequence at s[i], or 0 (Unicode 15, table 3-7).
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = b(i);
+  if (c < 0x80) return 1;
+  std::size_t n = 0;
+  unsigned char lo = 0x80, hi = 0xBF;
+  if (c >= 0xC2 && c <= 0xDF) n = 2;
+  else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    if (c == 0xE0) lo = 0xA0;
+    if (c == 0xED) hi = 0x9F;
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    if (c == 0xF0) lo = 0x90;
+    if (c == 0xF4) hi = 0x8F;
+  } else {
+    return 0;
+  }
+  if (i + n > s.size()) return 0;
+  if (b(i + 1) < lo || b(i + 1) > hi) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if (b(i + k) < 0x80 || b(i + k) > 0xBF) return 0;
+  return n;
+}
+}  // namespace
+
+std::size_t first_invalid_utf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8_length(s, i);
+    if (n == 0) return i;
+    i += n;
+  }
+  return std::string::npos;
+}
+
+std::string printable_utf8(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (std::size_t i = 0; i < s.size();) {
+    const std::size_t n = utf8_length(s, i);
+    if (n == 0) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(s[i]));
+      out += hex;
+      ++i;
+    } else {
+      out.append(s, i, n);
+      i += n;
+    }
+  }
+  return out;
+}
+
 std::string file_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
@@ -93,11 +148,25 @@ std::string read_file(const std::string& path) {
   struct stat st {};
   if (stat(path.c_str(), &st) != 0) throw InputError("cannot read '" + path + "': no such file");
   if (S_ISDIR(st.st_mode)) throw InputError("cannot read '" + path + "': it is a directory");
+  // Every file read here (datasets, gliders, models, calibrations) is far
+  // smaller; a device or a runaway file ("flights_csv": "/dev/zero") would
+  // otherwise be read until memory runs out.
+  constexpr std::size_t kMaxBytes = std::size_t(256) << 20;
+  const auto too_large = [&] {
+    return InputError("cannot read '" + path + "': it is larger than 256 MB, far more than any Pteromys input file");
+  };
+  if (S_ISREG(st.st_mode) && static_cast<unsigned long long>(st.st_size) > kMaxBytes) throw too_large();
   std::ifstream f(path, std::ios::binary);
   if (!f) throw InputError("cannot read '" + path + "': permission denied or unreadable");
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
+  std::string out;
+  std::vector<char> buf(1 << 16);
+  while (f) {
+    f.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    out.append(buf.data(), static_cast<std::size_t>(f.gcount()));
+    if (out.size() > kMaxBytes) throw too_large();
+  }
+  if (f.bad()) throw InputError("cannot read '" + path + "': a read error");
+  return out;
 }
 
 namespace {
@@ -511,6 +580,56 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     return;
   }
   commit_temp_file(tmp, path);
+}
+
+void write_files_together(const std::vector<std::pair<std::string, std::string>>& files) {
+  if (files.size() == 1) {
+    write_file_atomic(files[0].first, files[0].second);
+    return;
+  }
+  std::vector<std::pair<std::string, std::string>> temps;  // (temporary, path) of the file targets
+  std::vector<std::size_t> in_place;                       // devices, pipes, own descriptors
+  auto discard = [&] {
+    for (const auto& t : temps) discard_temp_file(t.first);
+  };
+  try {
+    for (std::size_t k = 0; k < files.size(); ++k) {
+      const auto& [path, text] = files[k];
+      if (path.empty()) throw InputError("no output file name given (an empty path)");
+      struct stat st {};
+      if (own_descriptor(path) >= 0 ||
+          (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))) {
+        in_place.push_back(k);
+        continue;
+      }
+      const std::string tmp = temp_path_for(path);
+      temps.emplace_back(tmp, path);
+      const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+      if (fd < 0) {
+        const int e = errno;
+        throw InputError("cannot write '" + path + "': " +
+                         (e == ENOENT || e == ENOTDIR ? std::string("directory missing or not writable") : errno_text(e)));
+      }
+      try {
+        write_all(fd, path, text);
+      } catch (...) {
+        ::close(fd);
+        throw;
+      }
+      int e = ::fsync(fd) != 0 ? errno : 0;
+      if (::close(fd) != 0 && e == 0) e = errno;
+      if (e != 0) throw InputError("cannot write '" + path + "': " + errno_text(e));
+    }
+    for (std::size_t k : in_place) write_file_atomic(files[k].first, files[k].second);
+  } catch (const InputError& e) {
+    discard();
+    throw InputError(std::string(e.what()) + "; no output was changed");
+  }
+  for (std::size_t i = 0; i < temps.size(); ++i)
+    if (!rename_temp_into_place(temps[i].first, temps[i].second)) {
+      for (std::size_t j = i; j < temps.size(); ++j) discard_temp_file(temps[j].first);
+      throw InputError("cannot write '" + temps[i].second + "': rename failed");
+    }
 }
 
 int whole_number(const std::string& key, double v, int lo, int hi) {

@@ -12,6 +12,7 @@
 
 #include "pteromys/capture_render.hpp"
 #include "pteromys/geometry.hpp"
+#include "pteromys/io.hpp"
 #include "pteromys/mass.hpp"
 #include "pteromys/track.hpp"
 
@@ -192,6 +193,10 @@ Vec2 silhouette_centroid_glider(const Glider& g) {
   return {Sx / A, Sy / A};
 }
 
+bool valid_flight_prefix(const std::string& prefix) {
+  return !prefix.empty() && prefix.size() <= 100 && safe_name(prefix, "-_.") == prefix;
+}
+
 TrackResult track_flights(const Detections& d, const Calibration& cal, const Glider& g, const TrackOptions& o) {
   if (d.width != cal.width || d.height != cal.height)
     throw InputError("the video is " + std::to_string(d.width) + "x" + std::to_string(d.height) +
@@ -199,6 +204,9 @@ TrackResult track_flights(const Detections& d, const Calibration& cal, const Gli
                      std::to_string(cal.height) + " images");
   if (!(d.fps > 0)) throw InputError("the video's frame rate is unknown");
   if (o.min_points < 2) throw InputError("min_points must be at least 2");
+  if (!valid_flight_prefix(o.name_prefix))
+    throw InputError("the flight name prefix '" + o.name_prefix + "' must be 1-100 letters, digits, '-', '_' or '.' "
+                     "(it names the flights in flights.csv)");
   if (o.max_missed < 0 || o.smooth_half_window < 1) throw InputError("max_missed must be >= 0 and the smoothing window >= 1");
   if (!(o.gate_sigma > 0 && o.accel_sigma_m_s2 > 0 && o.pixel_sigma > 0)) throw InputError("gating parameters must be positive");
   if (!std::isfinite(o.aoa_deg) || std::abs(o.aoa_deg) > 45) throw InputError("the angle of attack must be between -45 and 45 degrees");

@@ -287,3 +287,17 @@ TEST(OutputPaths, FileNamesStemsAndGliderKeys) {
   EXPECT_EQ(glider_key_of("my glider, v2.glider.json"), "my_glider__v2");
   EXPECT_EQ(glider_key_of("x/.json"), ".json");  // nothing would be left: kept whole
 }
+
+// Well-formed UTF-8 as Unicode's table 3-7 defines it, by hand: overlong
+// forms, surrogates and code points above U+10FFFF are ill-formed.
+TEST(OutputPaths, Utf8IsCheckedAsUnicodeDefinesIt) {
+  EXPECT_EQ(first_invalid_utf8("plain ascii"), std::string::npos);
+  EXPECT_EQ(first_invalid_utf8("vol \xC3\xA9t\xC3\xA9 \xE2\x82\xAC \xF0\x9F\x9B\xA9"), std::string::npos);  // é € 🛩
+  EXPECT_EQ(first_invalid_utf8("f\xE9,g"), 1u);            // Latin-1 é
+  EXPECT_EQ(first_invalid_utf8("ab\xC0\xAF"), 2u);         // overlong '/'
+  EXPECT_EQ(first_invalid_utf8("\xE0\x80\xAF"), 0u);       // overlong, three bytes
+  EXPECT_EQ(first_invalid_utf8("\xED\xA0\x80"), 0u);       // a surrogate (U+D800)
+  EXPECT_EQ(first_invalid_utf8("\xF4\x90\x80\x80"), 0u);   // above U+10FFFF
+  EXPECT_EQ(first_invalid_utf8("x\xE2\x82"), 1u);          // cut off at the end
+  EXPECT_EQ(printable_utf8("f\xE9t\xC3\xA9"), "f\\xE9t\xC3\xA9");
+}

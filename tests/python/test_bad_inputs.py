@@ -27,11 +27,14 @@ def materialise(case, tmp):
     subst = {"d": d, "ex": os.path.join(ROOT, "examples", "gliders"), "out": out, "root": ROOT}
     for name, content in case["files"].items():
         path = os.path.join(d, name)
-        if content.startswith("@copy "):
+        if isinstance(content, str) and content.startswith("@copy "):
             shutil.copyfile(content[len("@copy "):].format(**subst), path)
-        elif content.startswith("@edit "):
+        elif isinstance(content, str) and content.startswith("@edit "):
             with open(path, "w") as f:
                 f.write(corpus.edited_model(ROOT, content[len("@edit "):]))
+        elif isinstance(content, bytes):  # a file in another encoding
+            with open(path, "wb") as f:
+                f.write(content)
         else:
             with open(path, "w") as f:
                 f.write(content)

@@ -112,7 +112,8 @@ def _refused(r, words):
     assert len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 
-@pytest.mark.parametrize("case", ["missing video", "unreadable video", "glider not found", "calibration not found"])
+@pytest.mark.parametrize("case", ["missing video", "unreadable video", "glider not found", "calibration not found",
+                                  "comma in --name", "line end in --name"])
 def test_track_refuses_bad_input_and_writes_nothing(scene, tmp_path, case):
     out = tmp_path / "data"
     video, glider, calib = scene["video"], GLIDER, scene["calib"]
@@ -124,9 +125,15 @@ def test_track_refuses_bad_input_and_writes_nothing(scene, tmp_path, case):
         words = "cannot read video"
     elif case == "glider not found":
         glider, words = tmp_path / "nope.glider.json", "nope.glider.json"
-    else:
+    elif case == "calibration not found":
         calib, words = tmp_path / "nope.json", "nope.json"
-    r = run(["track", video, "--calib", calib, "--glider", glider, "-o", out, "--quiet"])
+    # --name names the flights in flights.csv: a comma, quote or line end in
+    # it wrote a dataset that fit could not read back (exit 0 before)
+    name = {"comma in --name": 'a,"b', "line end in --name": "a\nb"}.get(case)
+    if name:
+        words = "--name must be 1-100 letters, digits"
+    r = run(["track", video, "--calib", calib, "--glider", glider, "-o", out, "--quiet"] +
+            (["--name", name] if name else []))
     _refused(r, words)
     assert not out.exists() or not os.listdir(out)
 

@@ -621,7 +621,7 @@ def test_zeroed_reference_only_lowers_likelihood_ratios(tmp_path, camera_case):
     ("iterations", 0, "iterations must be a whole number between 1 and 1000"),
     ("iterations", 2.5, "iterations must be a whole number between 1 and 1000"),
     ("threads", -1, "threads must be a whole number between 0 and 256"),
-    ("dt", 0.1, "dt must be in \\(0, 0.05\\] s"),
+    ("dt", 0.1, "dt must be in \\[1e-05, 0.05\\] s"),
 ])
 def test_python_diagnosis_fit_refuses_what_diagnose_refuses(key, value, words):
     """diagnosis_fit (one corrected-model fit) has diagnose()'s bounds; it

@@ -241,7 +241,7 @@ def test_bad_options_are_rejected_before_work(dataset, tmp_path):
     ("robust_m", float("nan"), "robust_m must be a length >= 0"),
     ("regularisation_m", float("inf"), "regularisation_m must be a length >= 0"),
     ("dz", 0.2, "dz must be in \\(0, 0.1\\] m"),
-    ("dt", 0.1, "dt must be in \\(0, 0.05\\] s"),
+    ("dt", 0.1, "dt must be in \\[1e-05, 0.05\\] s"),
     ("min_improvement", 0.1, "stop='none' keeps every centre; drop min_improvement"),  # with stop none, below
 ])
 def test_python_fit_refuses_the_options_the_command_line_refuses(dataset, key, value, words):
@@ -325,10 +325,10 @@ def test_python_launch_fit_recovers_the_release(tmp_path):
     # the step bound of every other call and of the commands' --dt: a 0.1 s
     # step was taken (it skips most of a 1 s track), a zero one refused by
     # the engine in other words
-    for dt in (0.0, 0.1, float("nan")):
-        with pytest.raises(pteromys.InputError, match="dt must be in \\(0, 0.05\\] s"):
+    for dt in (0.0, 1e-9, 0.1, float("nan")):  # 1e-9: a step that would run for hours
+        with pytest.raises(pteromys.InputError, match="dt must be in \\[1e-05, 0.05\\] s"):
             pteromys.fit_launch(GLIDERS["rect"], t, x, y, dt=dt)
-        with pytest.raises(pteromys.InputError, match="dt must be in \\(0, 0.05\\] s"):
+        with pytest.raises(pteromys.InputError, match="dt must be in \\[1e-05, 0.05\\] s"):
             pteromys.simulate_track(GLIDERS["rect"], f, t, dt=dt)
 
 
@@ -392,3 +392,28 @@ def test_insertion_tries_only_add_centres_the_stopping_rule_accepts(tmp_path):
     for bad in (0, 1.5):
         with pytest.raises(Exception, match="insertion_tries must be a whole number between 1 and 1000"):
             pteromys.fit(data / "train.json", insertion_tries=bad)
+
+
+def test_an_error_quoting_bytes_that_are_not_utf8_keeps_its_message(tmp_path):
+    """A glider path in dataset.json saved as Latin-1 is refused by the JSON
+    reader, whose message quotes the bad byte; Python received it as an
+    InputError with no message at all (a str cannot hold the byte). It now
+    arrives with the byte written as \\xE9. A flight name in another encoding
+    is refused when the CSV is read, naming its line (before, the whole fit
+    ran and then stopped with "internal error" and exit 1, leaving the model)."""
+    d = tmp_path / "ds"
+    d.mkdir()
+    (d / "dataset.json").write_bytes(b'{"format": "pteromys-flights/1", "gliders": {"g": "g\xe9.glider.json"}, '
+                                     b'"flights_csv": "flights.csv"}')
+    with pytest.raises(pteromys.InputError) as e:
+        pteromys.fit(str(d / "dataset.json"), max_centres=1)
+    assert "not valid JSON" in str(e.value) and "\\xE9" in str(e.value), repr(str(e.value))
+    rows = "flight,glider,t_s,x_m,y_m\n" + "".join("vol-\xe9t\xe9,g,%.3f,%.3f,1.5\n" % (k / 30, 0.2 * k) for k in range(8))
+    (d / "dataset.json").write_text(json.dumps({"format": "pteromys-flights/1", "gliders": {"g": GLIDERS["rect"]},
+                                                "flights_csv": "flights.csv"}))
+    (d / "flights.csv").write_bytes(rows.encode("latin-1"))
+    with pytest.raises(pteromys.InputError, match="flights.csv line 2: byte 0xE9 is not UTF-8 text"):
+        pteromys.fit(str(d / "dataset.json"), max_centres=1)
+    r = run(["fit", d / "dataset.json", "-o", tmp_path / "m.json", "--quiet"])
+    assert r.returncode == 2 and "line 2: byte 0xE9 is not UTF-8 text" in r.stderr, r.stderr
+    assert not (tmp_path / "m.json").exists()

@@ -184,8 +184,8 @@ def test_generate_shows_progress(tmp_path):
 
 
 def test_generate_from_python_refuses_a_step_the_command_refuses(tmp_path):
-    # generate --dt takes (0, 0.05] s; the binding took any positive step
-    with pytest.raises(pteromys.InputError, match="dt must be in \\(0, 0.05\\] s"):
+    # generate --dt takes [1e-05, 0.05] s; the binding took any positive step
+    with pytest.raises(pteromys.InputError, match="dt must be in \\[1e-05, 0.05\\] s"):
         pteromys.generate_dataset([CANARD], str(tmp_path / "py"), flights_per_glider=2, dt=0.5)
     assert not (tmp_path / "py").exists()
 

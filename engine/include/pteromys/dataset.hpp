@@ -50,6 +50,10 @@ struct Dataset {
 /// not contiguous.
 Dataset load_dataset(const std::string& dataset_json);
 
+/// The files a dataset loaded from `dataset_json` was read from: that file,
+/// its flights CSV and its glider files (paths as load_dataset opened them).
+std::vector<std::string> dataset_files(const std::string& dataset_json, const Dataset& d);
+
 /// Writes dir/dataset.json, dir/<flights_csv> and every glider to
 /// dir/<glider_files[key]> (directories created). Each file is written
 /// atomically. Checks the dataset first (same rules as loading).

@@ -54,6 +54,14 @@ std::string trajectories_csv(const Flyability& f);
 /// InputError on failure (an empty path among them).
 void write_file_atomic(const std::string& path, const std::string& text);
 
+/// Writes several outputs of one command so that a failure leaves none of
+/// them changed: every file target is written to its temporary file first,
+/// then the in-place targets (a device, a pipe, /dev/stdout) are written, and
+/// only then are the temporary files renamed into place. A failure before the
+/// renames removes every temporary file and throws InputError naming the
+/// output; the files are renamed in the order given.
+void write_files_together(const std::vector<std::pair<std::string, std::string>>& files);
+
 /// The open descriptor of this process that `path` names (/dev/stdout,
 /// /dev/fd/N, /proc/self/fd/N, directly or through links), or -1.
 /// write_file_atomic writes to it in place, as a shell redirection would.
@@ -96,6 +104,15 @@ bool rename_temp_into_place(const std::string& tmp, const std::string& path);
 /// The directory part of a path: "." for a bare name, "/" for a name at the
 /// root (as dirname(1), without resolving links).
 std::string directory_of(const std::string& path);
+
+/// Offset of the first byte of `s` that is not part of well-formed UTF-8
+/// (overlong forms, surrogates and code points above U+10FFFF count as
+/// ill-formed), or std::string::npos when it all is.
+std::size_t first_invalid_utf8(const std::string& s);
+
+/// `s` with every byte that is not well-formed UTF-8 written as "\xNN", for
+/// messages that quote a user's text (Python turns a message into str).
+std::string printable_utf8(const std::string& s);
 
 /// The last component of a path ("a/b.c" -> "b.c"; a bare name as it is).
 std::string file_name(const std::string& path);

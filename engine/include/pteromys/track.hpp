@@ -174,6 +174,10 @@ struct TrackResult {
   bool perspective_model = false;  ///< silhouette model projected with the camera pose
 };
 
+/// Whether `prefix` can name flights (<prefix>-01, ...) in a flights.csv:
+/// 1-100 ASCII letters, digits, '-', '_' or '.' (no comma, quote or line end).
+bool valid_flight_prefix(const std::string& prefix);
+
 /// Stage 2. Throws InputError for corrections or ranges outside the video,
 /// an image size that differs from the calibration, bad options.
 TrackResult track_flights(const Detections& d, const Calibration& c, const Glider& g, const TrackOptions& opt);
