@@ -94,7 +94,14 @@ py::dict flight_dict(const Flight& f) {
 ModelPtr to_model(const py::object& o) {
   if (o.is_none()) return default_model();
   if (py::isinstance<py::str>(o)) return load_model(o.cast<std::string>());
-  return o.cast<std::shared_ptr<CoefficientModel>>();
+  if (py::hasattr(o, "__fspath__")) return load_model(py::str(o.attr("__fspath__")()).cast<std::string>());  // pathlib
+  try {
+    return o.cast<std::shared_ptr<CoefficientModel>>();
+  } catch (const py::cast_error&) {
+    // pybind11 says "Unable to cast Python instance", naming no parameter
+    throw InputError("model must be a model file's path or a model (pteromys.load_model, flat_plate_model, ...), "
+                     "not " + std::string(py::str(o.get_type().attr("__name__"))));
+  }
 }
 
 py::array_t<double> samples_array(const Flight& f) {

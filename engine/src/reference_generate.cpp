@@ -91,6 +91,15 @@ void check_options(const GenerateOptions& o) {
   check_range(o.camera.noise_sigma_m, 0.0, 10.0, "tracking noise [m]");
   check_range(o.camera.scale, 0.1, 10.0, "camera scale");
   check_range(o.camera.roll_deg, -90.0, 90.0, "camera roll [deg]");
+  // the camera as the camera effect leaves it (a scale error of -2 mirrored
+  // the flights, which fit then refused as flying backwards)
+  {
+    const double f = o.effects.camera.factor();
+    check_range(o.camera.scale * (1 + f * o.camera.scale_error), 0.1, 10.0,
+                "camera scale with its scale error at the camera effect's strength");
+    check_range(o.camera.roll_deg + f * o.camera.roll_error_deg, -90.0, 90.0,
+                "camera roll with its roll error at the camera effect's strength [deg]");
+  }
   check_range(o.dt, 1e-5, 0.05, "time step [s]");
   if (o.retrim) check_range(o.retrim_alpha_deg, -5.0, 15.0, "trim angle of attack [deg]");
   const LauncherModel& l = o.launcher;

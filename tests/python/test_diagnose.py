@@ -814,3 +814,36 @@ def test_python_call_refuses_a_bad_oracle(tmp_path):
     ds = _generate(tmp_path, "null", "baseline", seed=8)
     with pytest.raises(Exception, match="vortex"):
         pteromys.diagnose(ds, folds=3, oracle="vortex=1")
+
+
+def test_python_arguments_of_the_wrong_type_are_named_before_the_run(tmp_path):
+    """pybind11's own conversion said "Unable to cast Python instance to C++
+    type", naming no parameter; each is now refused by name before anything
+    runs, and a pathlib path to a model is taken as a path. A report asked of
+    something that is not a diagnosis result is refused before its directory
+    is made (it raised KeyError and left an empty directory)."""
+    import pathlib
+    import pteromys
+    ds = _generate(tmp_path, "data", "baseline")
+    for kw, words in ((dict(effects=[1, 2]), "effects must be effect names"),
+                      (dict(oracle={"finite_span": 1}), "oracle must be a string such as \"finite_span=1\", not dict"),
+                      (dict(plausible=3), "plausible must be a string"),
+                      (dict(model=5), "model must be a model file's path or a model")):
+        with pytest.raises(pteromys.InputError, match=re.escape(words)):
+            pteromys.diagnose(str(ds), folds=3, max_centres=1, **kw)
+    with pytest.raises(pteromys.InputError, match="missing.model.json"):  # a Path is a path (it was a cast error)
+        pteromys.diagnose(str(ds), folds=3, max_centres=1, model=pathlib.Path(tmp_path / "missing.model.json"))
+    rep = tmp_path / "rep"
+    with pytest.raises(ValueError, match="not a diagnosis result"):
+        pteromys.diagnosis_report({"x": 1}, rep)
+    assert not rep.exists()
+    # the renderer run as a program: a missing or non-JSON result in one line
+    import subprocess
+    import sys
+    (tmp_path / "junk.json").write_text("not json")
+    for src, words in ((tmp_path / "none.json", "cannot read"), (tmp_path / "junk.json", "is not a JSON file")):
+        r = subprocess.run([sys.executable, "-m", "pteromys.diagnose_report", str(src), str(tmp_path / "out")],
+                           capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+        assert r.returncode == 2 and words in r.stderr and "Traceback" not in r.stderr, r.stderr
+        assert len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()

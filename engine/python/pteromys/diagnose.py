@@ -128,6 +128,15 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     """
     if isinstance(effects, str):  # "wind,camera", as the CLI's --effects
         effects = [e.strip() for e in effects.split(",") if e.strip()]
+    # the engine's own conversion names no parameter ("Unable to cast Python
+    # instance"): say which one and what it takes
+    if effects is not None and (not hasattr(effects, "__iter__") or
+                                not all(isinstance(e, str) for e in effects)):
+        raise _core.InputError("effects must be effect names (strings such as \"wind\") or one comma-separated "
+                               "string, not %r" % (effects,))
+    for name, v, example in (("oracle", oracle, "finite_span=1"), ("plausible", plausible, "camera=0.05:3")):
+        if v is not None and not isinstance(v, str):
+            raise _core.InputError("%s must be a string such as \"%s\", not %s" % (name, example, type(v).__name__))
     opts = dict(folds=folds, effects=list(effects) if effects is not None else None, trim=bool(trim), model=model,
                 alpha=alpha, min_shrink=min_shrink, holdout_chi2_test=bool(holdout_chi2_test),
                 none_tolerance=none_tolerance, collinearity_limit=collinearity_limit, max_centres=max_centres,

@@ -200,7 +200,15 @@ _FEAT_HEAD = ["geometry feature", "Spearman rho (vs glider error)", "p"]
 
 def render(r, out, quiet=True):
     """Write index.html, report.md and the plots of result dict ``r`` into
-    directory ``out`` (created if needed). Returns the path of index.html."""
+    directory ``out`` (created if needed). Returns the path of index.html.
+    Raises ValueError, before anything is written, when ``r`` is not a
+    diagnosis result or ``out`` is a file."""
+    if not isinstance(r, dict) or r.get("format") != "pteromys-diagnosis/1" or \
+            not isinstance(r.get("baseline"), dict) or not isinstance(r.get("effects"), list):
+        raise ValueError("not a diagnosis result (a dict of format pteromys-diagnosis/1 with its baseline and "
+                         "effects, as pteromys.diagnose returns)")
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise ValueError("cannot write the report into %s: it is a file, not a directory" % out)
     os.makedirs(out, exist_ok=True)
     files = _plots(r, out)
     eff_rows, phase_rows, feat_rows = _tables(r)
@@ -298,9 +306,16 @@ def main(argv=None):
     if len(argv) != 2:
         print("usage: python3 -m pteromys.diagnose_report RESULT.json OUTDIR [--quiet]", file=sys.stderr)
         return 2
-    with open(argv[0]) as f:
-        r = json.load(f)
-    if r.get("format") != "pteromys-diagnosis/1":
+    try:
+        with open(argv[0]) as f:
+            r = json.load(f)
+    except OSError as e:
+        print("pteromys.diagnose_report: cannot read %s: %s" % (argv[0], e.strerror or e), file=sys.stderr)
+        return 2
+    except ValueError as e:  # not JSON, or not UTF-8
+        print("pteromys.diagnose_report: %s is not a JSON file (%s)" % (argv[0], e), file=sys.stderr)
+        return 2
+    if not isinstance(r, dict) or r.get("format") != "pteromys-diagnosis/1":
         print("not a diagnosis result (format pteromys-diagnosis/1): %s" % argv[0], file=sys.stderr)
         return 2
     try:
