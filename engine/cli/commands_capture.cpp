@@ -231,9 +231,13 @@ int run_track(const std::vector<std::string>& argv) {
     if (m < 6 || m > 100000 || m != std::floor(m)) throw InputError("--min-points must be a whole number of at least 6 (the spec's minimum)");
     topt.min_points = static_cast<int>(m);
   }
-  topt.name_prefix = a.get("--name", key + "-" + stem(video));
-  if (!valid_flight_prefix(topt.name_prefix))
-    throw InputError("--name must be 1-100 letters, digits, '-', '_' or '.' (it names the flights in flights.csv)");
+  if (a.has("--name")) {
+    topt.name_prefix = a.get("--name");
+    if (!valid_flight_prefix(topt.name_prefix))
+      throw InputError("--name must be 1-100 letters, digits, '-', '_' or '.' (it names the flights in flights.csv)");
+  } else {
+    topt.name_prefix = (key + "-" + stem(video)).substr(0, 100);  // both parts are safe; a long file name is cut
+  }
 
   Progress prog{"detect"};
   prog.quiet = a.flag("--quiet");

@@ -93,6 +93,9 @@ namespace {
 /// socket; else the device and inode of an existing file or directory, or the
 /// resolved directory and name of one that does not exist yet.
 std::string path_identity(const std::string& path) {
+  // /dev/stdout and the like are written into in place, one after another,
+  // whatever file the shell redirected them to
+  if (own_descriptor(path) >= 0) return "";
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0) {
     if (!S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) return "";

@@ -271,6 +271,9 @@ struct FitContext {
       // which were checked to move along +x, and let the fit move it.
       const auto& rec = D.dataset().flights[fi].points;
       guess = initial_launch_guess(rec, std::min<int>(6, rec.size()));
+      const Vec2 w = camera_to_world({guess.x, guess.y}, s.ev);  // its place as this trial sees it
+      guess.x = w.x;
+      guess.y = w.y;
     }
     guess.pitch_rate = s.ev.launch_rotation;
     LaunchFit best;

@@ -589,6 +589,12 @@ void write_files_together(const std::vector<std::pair<std::string, std::string>>
   }
   std::vector<std::pair<std::string, std::string>> temps;  // (temporary, path) of the file targets
   std::vector<std::size_t> in_place;                       // devices, pipes, own descriptors
+  std::vector<std::string> written;                        // outputs already written or renamed
+  const auto list = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& p : v) s += (s.empty() ? "'" : ", '") + p + "'";
+    return s;
+  };
   auto discard = [&] {
     for (const auto& t : temps) discard_temp_file(t.first);
   };
@@ -620,16 +626,24 @@ void write_files_together(const std::vector<std::pair<std::string, std::string>>
       if (::close(fd) != 0 && e == 0) e = errno;
       if (e != 0) throw InputError("cannot write '" + path + "': " + errno_text(e));
     }
-    for (std::size_t k : in_place) write_file_atomic(files[k].first, files[k].second);
+    for (std::size_t k : in_place) {
+      write_file_atomic(files[k].first, files[k].second);
+      written.push_back(files[k].first);
+    }
   } catch (const InputError& e) {
     discard();
-    throw InputError(std::string(e.what()) + "; no output was changed");
+    throw InputError(std::string(e.what()) + (written.empty() ? "; no output was changed" : "; only " + list(written) +
+                                                                 " was written, no file was replaced"));
   }
-  for (std::size_t i = 0; i < temps.size(); ++i)
+  for (std::size_t i = 0; i < temps.size(); ++i) {
     if (!rename_temp_into_place(temps[i].first, temps[i].second)) {
+      const int e = errno;
       for (std::size_t j = i; j < temps.size(); ++j) discard_temp_file(temps[j].first);
-      throw InputError("cannot write '" + temps[i].second + "': rename failed");
+      throw InputError("cannot write '" + temps[i].second + "': the rename into place failed (" + errno_text(e) + ")" +
+                       (written.empty() ? std::string() : "; " + list(written) + " already replaced or written"));
     }
+    written.push_back(temps[i].second);
+  }
 }
 
 int whole_number(const std::string& key, double v, int lo, int hi) {

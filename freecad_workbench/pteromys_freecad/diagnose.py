@@ -96,7 +96,9 @@ def _exchange(a, b):
     if fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
         return True
     e = ctypes.get_errno()
-    if e in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.ENOTSUP):
+    # no exchange here, or the earlier report went away meanwhile: the caller
+    # moves instead
+    if e in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP, errno.ENOTSUP, errno.ENOENT):
         return False
     raise OSError(e, "cannot put the report in place: %s" % os.strerror(e), b)
 

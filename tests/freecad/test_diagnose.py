@@ -178,6 +178,8 @@ for d, t in ((a, "A"), (b, "B")):
     os.mkdir(d)
     open(os.path.join(d, "f"), "w").write(t)
 RESULT["exchanged"] = pd._exchange(a, b)
+# an earlier report that went away meanwhile: no exchange, the caller moves
+RESULT["exchange_missing"] = pd._exchange(a, swap + "/gone")
 RESULT["after_exchange"] = (open(a + "/f").read(), open(b + "/f").read())
 # the fallback: no exchange; the second move fails -> the earlier report is back
 calls = []
@@ -204,6 +206,7 @@ RESULT["after_fallback"] = (os.path.exists(a), open(b + "/f").read(), sorted(os.
     assert res["listing"] == sorted(["dataset.json", "flights.csv", "generation.json", "gliders", "diagnosis"])
     assert (report / "diagnosis.json").is_file()
     assert res["exchanged"] is True and res["after_exchange"] == ["B", "A"]
+    assert res["exchange_missing"] is False
     assert res["fallback_error"] and "No space left" in res["fallback_error"]
     # both directories whole again, and nothing moved aside left over
     assert res["after_failed_fallback"][:2] == ["B", "A"]

@@ -228,3 +228,19 @@ def test_three_gliders_tracked_into_one_dataset_are_diagnosed(tmp_path):
     assert d["format"] == "pteromys-diagnosis/1"
     assert d["baseline"]["holdout_rmse_m"] < 0.01
     assert d["verdict"] == "none", (d["verdict"], d["baseline"])
+
+
+def test_a_long_video_name_makes_a_shortened_default_flight_name(scene, tmp_path):
+    """Without --name the flights are named KEY-VIDEONAME-NN; a video with a
+    long name was refused as if --name had been given (the 100-character
+    check); the default is now cut to 100 characters and the dataset reads
+    back."""
+    long_video = tmp_path / ("b" * 120 + ".avi")
+    os.symlink(scene["video"], long_video)
+    out = tmp_path / "data"
+    r = run(["track", long_video, "--calib", scene["calib"], "--glider", GLIDER, "-o", out, "--glider-key", "g01",
+             "--quiet"])
+    assert r.returncode == 0, r.stderr
+    names = {q["flight"] for q in read_csv(out / "flights.csv")}
+    assert names and all(n.startswith("g01-bbbb") and len(n) == 103 for n in names), names  # 100 + "-NN"
+    assert run(["fit", out / "dataset.json", "-o", tmp_path / "m.json", "--quiet", "--max-centres", "1"]).returncode == 0

@@ -512,3 +512,40 @@ def test_a_report_that_fails_while_rendered_leaves_the_result_and_the_earlier_re
     assert json.load(open(out))["format"] == "pteromys-diagnosis/1"
     assert _snapshot(rep) == before
     assert sorted(f.name for f in tmp_path.iterdir()) == ["o.json", "rep"]
+
+
+def test_outputs_to_a_redirected_standard_output_are_not_the_same_file(tmp_path):
+    """Two outputs to /dev/stdout redirected into a file are written one after
+    the other into it (the outputs check compared that file with itself and
+    refused); a device that fails after one of them says what was written."""
+    glider = os.path.join(ROOT, "examples", "gliders", "canard.glider.json")
+    out = tmp_path / "both.txt"
+    with open(out, "w") as f:
+        p = subprocess.run([os.path.join(BUILD, "bin", "pteromys"), "evaluate", glider, "--json", "/dev/stdout",
+                            "--csv", "/dev/stdout", "--quiet"], stdout=f, stderr=subprocess.PIPE, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    text = out.read_text()
+    report_end = text.index("\n}\n") + 3
+    assert json.loads(text[:report_end])["format"] == "pteromys-report/1"
+    assert text[report_end:].startswith("launch,t_s,x_m,y_m,pitch_deg,speed_m_s")
+    r = run(["evaluate", glider, "--json", "/dev/stdout", "--csv", "/dev/full"])
+    assert r.returncode == 2 and "only '/dev/stdout' was written, no file was replaced" in r.stderr, r.stderr
+    assert json.loads(r.stdout)["format"] == "pteromys-report/1"
+
+
+def test_a_result_inside_the_report_directory_is_refused_before_the_work(tmp_path, dataset):
+    """The report replaces its directory as a whole: a --json inside it went
+    with the earlier report (exit 0, the result gone), or was refused after
+    the whole run as a file that is not a report's."""
+    rep = tmp_path / "R"
+    r = run(["diagnose", dataset / "dataset.json", "--json", tmp_path / "o.json", "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
+    before = _snapshot(rep)
+    for j in (rep / "diagnosis.json", tmp_path / "R" / ".." / "R" / "x.json"):
+        r = run(["diagnose", dataset / "dataset.json", "--json", j, "--report", str(rep) + "/"] + QUICK)
+        assert r.returncode == 2 and "inside the report's directory" in r.stderr, r.stderr
+        assert "held-out" not in r.stderr  # refused before the work
+        assert _snapshot(rep) == before
+    # a name that only starts like the report's is beside it, not inside
+    r = run(["diagnose", dataset / "dataset.json", "--json", tmp_path / "R.json", "--report", rep] + QUICK)
+    assert r.returncode == 0, r.stderr
