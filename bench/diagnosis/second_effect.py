@@ -22,7 +22,9 @@ and for every run whose verdict names an effect:
 2. for every candidate given the verdict that passes the held-out
    chi-square test and the guards (glider, bound, plausibility), prints its
    RMSE shrink and its excess share, marked TRUE when it is the dataset's
-   other true effect, and summarises the two groups.
+   other true effect, and summarises the two groups;
+3. for every two-effect dataset whose verdict is one of its effects, the
+   other one given the verdict, whatever it passed, with its note.
 
 It reads stored results only; it cannot say what the diagnosis would have
 fitted under another rule.
@@ -80,7 +82,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     roots = [(r, False) for r in args.roots] + [(r, True) for r in args.escalated]
     runs = latest_runs(roots or [(ARCHIVE, False), (ARCHIVE_ESCALATE, True)])
-    named, with_also, rows = 0, [], []
+    named, with_also, rows, seconds = 0, [], [], []
     for (name, escalated), (commit, path) in sorted(runs.items()):
         case = case_of(name)
         if case is None:
@@ -99,14 +101,17 @@ def main(argv=None):
             g = e.get("given_verdict")
             if not g or e["name"] == v:
                 continue
+            re = g["holdout_rmse_m"]
+            rb = re / (1.0 - g["shrink"])
+            if len(truth) == 2 and e["name"] in truth:  # a two-effect dataset's other effect, whatever it passed
+                seconds.append((name, escalated, v, e["name"], g["shrink"],
+                                (rb ** 2 - re ** 2) / max(rb ** 2 - noise ** 2, 1e-12), g.get("note", "")))
             cv = g["cross_validation"]
             if not (cv["delta_chi2"] > cv["threshold"] and g.get("robust_pass", True) and g.get("bound_pass", True)
                     and g.get("plausible", True)):
                 continue
             # the held-out RMSE the shrink was measured against (B's fit, or B
-            # re-tuned alone where the candidate was re-checked)
-            re = g["holdout_rmse_m"]
-            rb = re / (1.0 - g["shrink"])
+            # re-tuned alone where the candidate was re-checked): rb above
             share = (rb ** 2 - re ** 2) / max(rb ** 2 - noise ** 2, 1e-12)
             rows.append((share, g["shrink"], name, escalated, v, e["name"], e["name"] in truth, g["significant"]))
     print("%d archived runs name an effect (the latest run of each case; first and second searches apart)" % named)
@@ -136,6 +141,11 @@ def main(argv=None):
         print("   an excess-share standard of %2.0f %% would pass %d of %d wrong candidates and %d of %d true ones" % (
             100 * thr, sum(1 for x in wrong_rows if x[0] >= thr), len(wrong_rows),
             sum(1 for x in true_rows if x[0] >= thr), len(true_rows)))
+    print("\n3. two-effect datasets whose verdict is one of the two: the other given it, whatever it passed: %d"
+          % len(seconds))
+    for name, esc, v, e, shrink, share, note in seconds:
+        print("   %-28s %-8s verdict %-8s %-15s shrink %5.1f%%, excess %5.1f%%: %s" % (
+            name, "second" if esc else "first", v, e, 100 * shrink, 100 * share, note))
 
 
 if __name__ == "__main__":
