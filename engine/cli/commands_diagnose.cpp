@@ -212,20 +212,8 @@ int run_diagnose(const std::vector<std::string>& argv) {
     // be deleted with the earlier report (or refused after the whole run as
     // a file that is not the report's).
     if (a.has("--json") && own_descriptor(a.get("--json")) < 0) {
-      auto resolved_dir = [](const std::string& d) {
-        char* real = ::realpath(d.c_str(), nullptr);
-        const std::string out = real ? std::string(real) : d;
-        std::free(real);
-        return out;
-      };
-      const std::string rep = resolved_dir(parent) + "/" + file_name(r);
-      std::string jdir = a.get("--json");
-      try {
-        jdir = directory_of(output_target(jdir));
-      } catch (const InputError&) {
-        jdir = directory_of(jdir);
-      }
-      jdir = resolved_dir(jdir);
+      const std::string rep = resolved_path(r);
+      const std::string jdir = directory_of(resolved_path(a.get("--json")));
       if (jdir == rep || jdir.rfind(rep + "/", 0) == 0)
         throw InputError("cannot write the diagnosis '" + a.get("--json") + "' inside the report's directory '" + r +
                          "': the report replaces that directory as a whole, and the result would go with it; "

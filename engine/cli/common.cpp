@@ -101,19 +101,22 @@ std::string path_identity(const std::string& path) {
     if (!S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) return "";
     return "i" + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
   }
+  return "p" + resolved_path(path);
+}
+}  // namespace
+
+std::string resolved_path(const std::string& path) {
   std::string target = path;
   try {
     target = output_target(path);
-  } catch (const InputError&) {
-    return "p" + path;
+  } catch (const InputError&) {  // a directory, a device, a loop of links: the path as given
   }
   const std::string dir = directory_of(target);
   char* real = ::realpath(dir.c_str(), nullptr);
   const std::string r = real ? std::string(real) : dir;
   std::free(real);
-  return "p" + r + "/" + file_name(target);
+  return r + "/" + file_name(target);
 }
-}  // namespace
 
 void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
   std::vector<std::string> ids;

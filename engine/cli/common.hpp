@@ -46,6 +46,11 @@ struct NamedPath {
 /// they do not yet; devices and pipes (/dev/null, /dev/stdout) are exempt.
 void check_distinct_outputs(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs);
 
+/// Where a write to `path` lands, spelt one way: its links followed
+/// (output_target, or the path as given where that refuses it) and its
+/// directory resolved (realpath, when it exists).
+std::string resolved_path(const std::string& path);
+
 /// check_distinct_outputs for a command on one glider (load_setup's inputs:
 /// the glider file and --model) writing the given (what, option) outputs
 /// that the command line has.
