@@ -263,7 +263,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   o.sim.ground_y = a.number("--ground-y", 0.0);
   if (!std::isfinite(o.sim.ground_y)) throw InputError("--ground-y must be a number");
   o.sim.dt = a.number("--dt", o.sim.dt);
-  if (!(o.sim.dt >= 1e-5) || o.sim.dt > 0.05) throw InputError("--dt must be in [1e-05, 0.05] s");
+  check_time_step(o.sim.dt, "--dt");
   o.sim.aero.dz = a.number("--dz", o.sim.aero.dz);
   if (!(o.sim.aero.dz > 0) || o.sim.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
   o.sim.max_iterations = a.whole("--iterations", o.sim.max_iterations, 1, 1000);

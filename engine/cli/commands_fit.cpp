@@ -69,8 +69,7 @@ int run_fit(const std::vector<std::string>& argv) {
   opt.aero.dz = a.number("--dz", opt.aero.dz);
   if (!(opt.aero.dz > 0) || opt.aero.dz > 0.1) throw InputError("--dz must be in (0, 0.1] m");
   opt.launch.track.sim.dt = a.number("--dt", opt.launch.track.sim.dt);
-  if (!(opt.launch.track.sim.dt >= 1e-5) || opt.launch.track.sim.dt > 0.05)
-    throw InputError("--dt must be in [1e-05, 0.05] s");
+  check_time_step(opt.launch.track.sim.dt, "--dt");
   const std::string integ = a.get("--integrator", "verlet");
   if (integ == "verlet") opt.launch.track.sim.integrator = Integrator::Verlet;
   else if (integ == "rk4") opt.launch.track.sim.integrator = Integrator::RK4;

@@ -34,8 +34,7 @@ Setup load_setup(const Args& a) {
   if (!(s.analysis.launch_height >= 0) || s.analysis.launch_height > 100)
     throw InputError("--height must be between 0 and 100 m");
   s.analysis.sim.dt = a.number("--dt", s.analysis.sim.dt);
-  if (!(s.analysis.sim.dt >= 1e-5) || s.analysis.sim.dt > 0.05)
-    throw InputError("--dt must be in [1e-05, 0.05] s");
+  check_time_step(s.analysis.sim.dt, "--dt");
   const std::string integ = a.get("--integrator", "verlet");
   if (integ == "verlet") s.analysis.sim.integrator = Integrator::Verlet;
   else if (integ == "rk4") s.analysis.sim.integrator = Integrator::RK4;

@@ -42,10 +42,7 @@ double launch_height(double v) {
   return v;
 }
 
-double time_step(double dt) {
-  if (!(dt >= 1e-5) || dt > 0.05) throw InputError("dt must be in [1e-05, 0.05] s");
-  return dt;
-}
+double time_step(double dt) { return check_time_step(dt, "dt"); }
 
 Launch one_launch(double speed, double climb_deg, double height, const py::object& pitch_deg,
                   double pitch_rate_deg_s) {

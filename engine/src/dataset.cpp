@@ -50,11 +50,35 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return out;
 }
 
+// A cell as quoted in a message: at most 40 characters (a 5000-digit cell
+// is named, not echoed).
+std::string shown_cell(const std::string& s) {
+  return "'" + (s.size() <= 40 ? s : s.substr(0, 37) + "...") + "'";
+}
+
+// A decimal number, as a tracker or a spreadsheet writes it: digits, a sign,
+// a point and an exponent. strtod alone would also read hexadecimal
+// ("0x1A" = 26) and "inf" or "nan".
 double parse_number(const std::string& s, const std::string& where) {
+  const bool decimal = !s.empty() && s.find_first_not_of("0123456789+-.eE") == std::string::npos;
+  if (!decimal && s.find_first_not_of("+-") != std::string::npos) {
+    const std::string low = [&] {
+      std::string l;
+      for (char c : s.substr(s.find_first_not_of("+-"))) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return l;
+    }();
+    if (low.rfind("nan", 0) == 0 || low.rfind("inf", 0) == 0)
+      throw InputError(where + ": NaN or infinite value " + shown_cell(s));
+  }
   char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end == s.c_str() || *end != '\0') throw InputError(where + ": '" + s + "' is not a number");
-  if (!std::isfinite(v)) throw InputError(where + ": NaN or infinite value '" + s + "'");
+  const double v = decimal ? std::strtod(s.c_str(), &end) : 0.0;
+  if (!decimal || end == s.c_str() || *end != '\0') {
+    const auto digits = s.find_first_not_of("+-");
+    const bool hex = digits != std::string::npos && s.size() > digits + 1 && s[digits] == '0' &&
+                     (s[digits + 1] == 'x' || s[digits + 1] == 'X');
+    throw InputError(where + ": " + shown_cell(s) + (hex ? " is not a decimal number" : " is not a number"));
+  }
+  if (!std::isfinite(v)) throw InputError(where + ": " + shown_cell(s) + " is beyond the range of a number");
   return v;
 }
 
@@ -213,9 +237,8 @@ Dataset load_dataset(const std::string& path) {
   // not after the whole fit.
   if (const auto bad = first_invalid_utf8(csv_text); bad != std::string::npos) {
     const long ln = 1 + std::count(csv_text.begin(), csv_text.begin() + bad, '\n');
-    char hex[8];
-    std::snprintf(hex, sizeof hex, "0x%02X", static_cast<unsigned char>(csv_text[bad]));
-    throw InputError(csv_path + " line " + std::to_string(ln) + ": byte " + hex +
+    throw InputError(csv_path + " line " + std::to_string(ln) + ": byte 0x" +
+                     hex_byte(static_cast<unsigned char>(csv_text[bad])) +
                      " is not UTF-8 text; save the file as UTF-8");
   }
   std::stringstream csv(csv_text);

@@ -368,7 +368,7 @@ DiagnosisData::DiagnosisData(const Dataset& d, const DiagFitOptions& o) : d_(d),
   const auto problems = dataset_problems(d);
   if (!problems.empty()) throw InputError("invalid dataset: " + problems.front());
   if (!(d.tracking_sigma_m > 0)) throw InputError("the dataset's tracking_sigma_m must be positive");
-  if (!(o.dt >= 1e-5) || o.dt > 0.05) throw InputError("the simulation step must be in [1e-05, 0.05] s");
+  check_time_step(o.dt, "the simulation step");
   if (!std::isfinite(o.ground_y)) throw InputError("the ground height must be a finite number");
   threads_ = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
   impl_ = std::make_shared<Impl>();

@@ -86,6 +86,11 @@ double QuasiStaticAero::max_alpha(const FlightState& s) const {
 
 double QuasiStaticAero::alpha_limit() const { return g_.alpha_limit(); }
 
+double check_time_step(double dt, const std::string& name) {
+  if (!(dt >= kMinTimeStep) || dt > kMaxTimeStep) throw InputError(name + " must be in [1e-05, 0.05] s");
+  return dt;
+}
+
 std::vector<Launch> standard_launches(double height) {
   std::vector<Launch> out;
   for (double v : {7.0, 9.0, 11.0})

@@ -1,4 +1,5 @@
 #include "pteromys/io.hpp"
+#include "pteromys/text.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -98,15 +99,18 @@ std::size_t first_invalid_utf8(const std::string& s) {
   return std::string::npos;
 }
 
+std::string hex_byte(unsigned char b) {
+  static const char digits[] = "0123456789ABCDEF";
+  return {digits[b >> 4], digits[b & 15]};
+}
+
 std::string printable_utf8(const std::string& s) {
   std::string out;
   out.reserve(s.size());
   for (std::size_t i = 0; i < s.size();) {
     const std::size_t n = utf8_length(s, i);
     if (n == 0) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned char>(s[i]));
-      out += hex;
+      out += "\\x" + hex_byte(static_cast<unsigned char>(s[i]));
       ++i;
     } else {
       out.append(s, i, n);
@@ -535,6 +539,35 @@ void write_into_special_file(const std::string& path, const std::string& text) {
   }
   if (::close(fd) != 0) throw InputError("cannot write '" + path + "': " + errno_text(errno));
 }
+
+// Writes text to a new temporary file beside path (temp_path_for), synced to
+// disk, and returns its name, registered for removal; the caller renames it
+// into place or discards it. On failure nothing is left behind and the
+// InputError names path.
+std::string write_temp(const std::string& path, const std::string& text) {
+  const std::string tmp = temp_path_for(path);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    const int e = errno;
+    unregister_temp(tmp);
+    throw InputError("cannot write '" + path + "': " +
+                     (e == ENOENT || e == ENOTDIR ? std::string("directory missing or not writable") : errno_text(e)));
+  }
+  try {
+    write_all(fd, path, text);
+  } catch (...) {
+    ::close(fd);
+    discard_temp_file(tmp);
+    throw;
+  }
+  int e = ::fsync(fd) != 0 ? errno : 0;
+  if (::close(fd) != 0 && e == 0) e = errno;
+  if (e != 0) {
+    discard_temp_file(tmp);
+    throw InputError("cannot write '" + path + "': " + errno_text(e));
+  }
+  return tmp;
+}
 }  // namespace
 
 void write_file_atomic(const std::string& path, const std::string& text) {
@@ -551,26 +584,11 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     write_into_special_file(path, text);
     return;
   }
-  const std::string tmp = temp_path_for(path);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-  if (fd < 0) {
-    const int e = errno;
-    unregister_temp(tmp);
-    throw InputError("cannot write '" + path + "': " +
-                     (e == ENOENT || e == ENOTDIR ? std::string("directory missing or not writable") : errno_text(e)));
-  }
+  std::string tmp;
   try {
-    write_all(fd, path, text);
+    tmp = write_temp(path, text);
   } catch (const InputError& e) {
-    ::close(fd);
-    discard_temp_file(tmp);
     throw InputError(std::string(e.what()) + "; the old file, if any, is unchanged");
-  }
-  if (::close(fd) != 0) {
-    const int e = errno;
-    std::remove(tmp.c_str());
-    unregister_temp(tmp);
-    throw InputError("cannot write '" + path + "': " + errno_text(e));
   }
   if (text.empty()) {  // commit_temp_file refuses empty files; an empty text is legitimate here
     const bool ok = std::rename(tmp.c_str(), output_target(path).c_str()) == 0;
@@ -608,23 +626,7 @@ void write_files_together(const std::vector<std::pair<std::string, std::string>>
         in_place.push_back(k);
         continue;
       }
-      const std::string tmp = temp_path_for(path);
-      temps.emplace_back(tmp, path);
-      const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
-      if (fd < 0) {
-        const int e = errno;
-        throw InputError("cannot write '" + path + "': " +
-                         (e == ENOENT || e == ENOTDIR ? std::string("directory missing or not writable") : errno_text(e)));
-      }
-      try {
-        write_all(fd, path, text);
-      } catch (...) {
-        ::close(fd);
-        throw;
-      }
-      int e = ::fsync(fd) != 0 ? errno : 0;
-      if (::close(fd) != 0 && e == 0) e = errno;
-      if (e != 0) throw InputError("cannot write '" + path + "': " + errno_text(e));
+      temps.emplace_back(write_temp(path, text), path);
     }
     for (std::size_t k : in_place) {
       write_file_atomic(files[k].first, files[k].second);
@@ -784,6 +786,10 @@ json flat_plate_to_json(const FlatPlateParams& f) {
 }
 }  // namespace
 
+namespace {
+constexpr double kMaxCentreCoefficient = 10.0;  ///< |cd|, |cl|, |cm| a model file may hold at a centre
+}  // namespace
+
 std::shared_ptr<const CoefficientModel> model_from_json(const json& j) {
   const Reader r;
   if (!j.is_object()) r.fail("a model file must hold a JSON object");
@@ -822,6 +828,14 @@ std::shared_ptr<const CoefficientModel> model_from_json(const json& j) {
     c.value.cd = r.number(cs[i], "cd", p);
     c.value.cl = r.number(cs[i], "cl", p);
     c.value.cm = r.number(cs[i], "cm", p);
+    // A plate section's coefficients are within a few units (the fit keeps
+    // |cl|, cd <= 2.5 and |cm| <= 1); a value far beyond is not a model of
+    // one (a unit slip or a damaged file) and would make every flight leave
+    // the model's range.
+    for (const auto& [name, v] : {std::pair{"cd", c.value.cd}, std::pair{"cl", c.value.cl}, std::pair{"cm", c.value.cm}})
+      if (std::abs(v) > kMaxCentreCoefficient)
+        r.fail(p + "." + name + " is " + fmt_number(v) + "; a flat plate's coefficients lie between -" +
+               fmt_number(kMaxCentreCoefficient) + " and " + fmt_number(kMaxCentreCoefficient));
     centres.push_back(c);
   }
   return std::make_shared<RbfModel>(std::move(centres), s, lim, prior);

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "pteromys/io.hpp"
 #include "test_support.hpp"
 
@@ -218,4 +221,21 @@ TEST(Flight, RejectsNonPhysicalBodies) {
   SimOptions o;
   o.dt = 0;
   EXPECT_THROW(simulate(NoAero(), {0.01, 1e-5}, Launch{}, o), InputError);
+}
+
+// Every command's --dt and every binding's dt go through check_time_step:
+// its bounds are inclusive, NaN is refused, and the message names the
+// option it was given.
+TEST(Flight, TimeStepIsCheckedAgainstItsBounds) {
+  EXPECT_EQ(check_time_step(1e-5, "--dt"), 1e-5);
+  EXPECT_EQ(check_time_step(0.002, "--dt"), 0.002);
+  EXPECT_EQ(check_time_step(0.05, "--dt"), 0.05);
+  for (double bad : {0.0, -0.002, 9.9e-6, 0.0501, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    try {
+      check_time_step(bad, "the simulation step");
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_STREQ(e.what(), "the simulation step must be in [1e-05, 0.05] s");
+    }
+  }
 }

@@ -300,4 +300,8 @@ TEST(OutputPaths, Utf8IsCheckedAsUnicodeDefinesIt) {
   EXPECT_EQ(first_invalid_utf8("\xF4\x90\x80\x80"), 0u);   // above U+10FFFF
   EXPECT_EQ(first_invalid_utf8("x\xE2\x82"), 1u);          // cut off at the end
   EXPECT_EQ(printable_utf8("f\xE9t\xC3\xA9"), "f\\xE9t\xC3\xA9");
+  EXPECT_EQ(hex_byte(0x00), "00");
+  EXPECT_EQ(hex_byte(0x0A), "0A");
+  EXPECT_EQ(hex_byte(0xE9), "E9");
+  EXPECT_EQ(hex_byte(0xFF), "FF");
 }

@@ -109,6 +109,15 @@ std::vector<Launch> standard_launches(double height = 1.5);
 
 enum class Integrator { Verlet, RK4 };
 
+/// The simulation steps [s] that every command's --dt and every binding's
+/// dt accept: a smaller one would run for hours (a diagnosis flies each
+/// flight tens of thousands of times), a larger one no longer resolves the
+/// pitch oscillation of a small glider.
+inline constexpr double kMinTimeStep = 1e-5, kMaxTimeStep = 0.05;
+/// dt if it is in [kMinTimeStep, kMaxTimeStep]; otherwise InputError
+/// "<name> must be in [1e-05, 0.05] s" (NaN included).
+double check_time_step(double dt, const std::string& name);
+
 struct SimOptions {
   double dt = 0.002;          ///< time step [s]
   double t_max = 20.0;        ///< flight ends at this time [s]

@@ -110,6 +110,9 @@ std::string directory_of(const std::string& path);
 /// ill-formed), or std::string::npos when it all is.
 std::size_t first_invalid_utf8(const std::string& s);
 
+/// A byte as two upper-case hexadecimal digits (0xE9 -> "E9").
+std::string hex_byte(unsigned char b);
+
 /// `s` with every byte that is not well-formed UTF-8 written as "\xNN", for
 /// messages that quote a user's text (Python turns a message into str).
 std::string printable_utf8(const std::string& s);
