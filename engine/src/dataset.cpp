@@ -50,10 +50,13 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return out;
 }
 
-// A cell as quoted in a message: at most 40 characters (a 5000-digit cell
-// is named, not echoed).
+// A cell as quoted in a message: at most 40 bytes (a 5000-digit cell is
+// named, not echoed), cut between UTF-8 characters.
 std::string shown_cell(const std::string& s) {
-  return "'" + (s.size() <= 40 ? s : s.substr(0, 37) + "...") + "'";
+  if (s.size() <= 40) return "'" + s + "'";
+  std::size_t n = 37;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // not inside a character
+  return "'" + s.substr(0, n) + "...'";
 }
 
 // A decimal number, as a tracker or a spreadsheet writes it: digits, a sign,

@@ -87,6 +87,8 @@ CASES = [
         "x_m written 0x1A (hexadecimal)", 2, ["flights.csv line 5 x_m", "'0x1A' is not a decimal number"]),
     fit(dataset(csv_text=csv(ROWS[:3] + ["f1,g,0.100," + "9" * 5000 + ",1.49"] + ROWS[4:])), "csv_huge_number",
         "x_m of 5000 digits", 2, ["flights.csv line 5 x_m", "'" + "9" * 37 + "...' is beyond the range"]),
+    fit(dataset(csv_text=csv(ROWS[:3] + ["f1,g,0.100," + "\u00e9" * 30 + ",1.49"] + ROWS[4:])), "csv_long_text_cell",
+        "x_m of 30 accented letters (60 bytes)", 2, ["x_m: '" + "\u00e9" * 18 + "...' is not a number"]),
     fit(dataset(csv_text=csv(ROWS[:3] + [ROWS[2]] + ROWS[4:])), "csv_time_not_increasing",
         "a repeated time", 2, ["flights.csv", "line 5", "time does not increase"]),
     fit(dataset(csv_text=csv(ROWS[:4])), "csv_too_few_points", "a flight of 4 points", 2,
