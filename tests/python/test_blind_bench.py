@@ -490,6 +490,11 @@ def test_the_documented_top1_figures_are_the_tables_count():
     assert stated, "the table's count line is missing"
     assert (int(stated.group(1)), int(stated.group(2))) == (hits, n)
     assert int(stated.group(3)) == round(100 * hits / n)
+    # "In short"'s table gives the same count in its eight-glider column.
+    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    cell = re.search(r"\| true effect named, default search \| (\d+) of (\d+) cases \((\d+) %\) \|", short)
+    assert cell, "'In short' does not give the eight-glider top-1 count"
+    assert tuple(int(g) for g in cell.groups()) == (hits, n, round(100 * hits / n))
     # The targets table's verdict cell gives the same count.
     row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
     assert row.rstrip().endswith("| no (%d of %d) |" % (hits, n)) or row.rstrip().endswith("| yes (%d of %d) |" % (hits, n))
@@ -961,8 +966,7 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
                                                     round(100 * named / nameable))
     # "In short" repeats the figure by the rule in its own words
     short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
-    brief = re.search(r"flown by the issue's 20 gliders, (\d+) of the (\d+) cases whose data could show the effect "
-                      r"there, (\d+) %", re.sub(r"\s+", " ", short))
+    brief = re.search(r"\| true effect named, default search \| [^|]*\| (\d+) of (\d+) \((\d+) %\) \|", short)
     assert brief, "'In short' does not give the 20-glider figure by the table's rule"
     assert tuple(int(g) for g in brief.groups()) == (named, nameable, round(100 * named / nameable))
     # with the second search (archived --escalate runs of CASE-g20), by the
@@ -980,8 +984,8 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     g = esc.groups()
     assert (int(g[0]), int(g[1]), g[2], g[3], int(g[4]), int(g[5]), int(g[6])) == (
         both, nameable, pct, side, searched, misses, named2)
-    brief2 = re.search(r"and with the second search (\d+) of (\d+), ([\d.]+) %(?:, (just under the target))?",
-                       re.sub(r"\s+", " ", short))
+    brief2 = re.search(r"\| with the second search \(`--escalate`\) \| [^|]*\| (\d+) of (\d+) \(([\d.]+) %"
+                       r"(?:, (just under the target))?\) \|", short)
     assert brief2, "'In short' does not give the 20-glider figure with the second search"
     assert (int(brief2.group(1)), int(brief2.group(2)), brief2.group(3), brief2.group(4)) == (both, nameable, pct, side)
 
@@ -1173,6 +1177,10 @@ def test_the_documented_second_search_figure_is_the_archives_count():
         assert tuple(int(g) for g in s) == want
     row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
     assert re.search(pattern, row), "the top-1 row does not give the second search's archived figure"
+    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    cell = re.search(r"\| with the second search \(`--escalate`\) \| (\d+) of (\d+) \((\d+) %\) \|", short)
+    assert cell, "'In short' does not give the eight-glider figure with the second search"
+    assert tuple(int(g) for g in cell.groups()) == (hits, len(rows), round(100 * hits / len(rows)))
 
 
 def test_camera_folds_measures_how_the_folds_agree(tmp_path):
