@@ -5,8 +5,8 @@ docs/diagnosis.md, "With the second search").
 The second search (`--escalate`, after a first search's `unexplained`) runs
 the whole diagnosis again with every aerodynamic correction (pitch damping,
 downwash, finite span, fuselage drag, ground effect, added mass) also
-started at its theoretical size; it takes 2-3.5 times as long as the
-first. A cheaper one would start only a shortlist of them there: those the
+started at its theoretical size; in the archived runs it took 1.4-5
+times as long as the first. A cheaper one would start only a shortlist of them there: those the
 first search found most promising. This script asks, of the archived second
 searches, where the true effect stood among the aerodynamic corrections in
 the first search that preceded it:
@@ -94,7 +94,8 @@ def rows(first_root, second_root):
             continue
         c1, r1 = first
         effects = r1["effects"]
-        best = max(effects, key=lambda e: e.get("shrink", -1e300))["name"] if effects else ""
+        shrinks = [e for e in effects if e.get("shrink") is not None]
+        best = max(shrinks, key=lambda e: e["shrink"])["name"] if shrinks else ""
         by_shrink = order(effects, lambda e: e.get("shrink"))
         by_screen = order(effects, lambda e: e.get("linearised_delta_chi2"))
         out.append((name, c1, commit, r2["verdict"], r2["verdict"] == truth,
@@ -112,7 +113,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     rs = rows(args.first, args.second)
     print("%d archived second searches of single aerodynamic effects with their first search" % len(rs))
-    print("   %-28s %-17s %-14s %-6s %-7s %-11s %s" % ("case", "first / second", "second's verdict", "right",
+    print("   %-28s %-17s %-16s %-6s %-7s %-11s %s" % ("case", "first / second", "second's verdict", "right",
                                                      "shrink", "linearised", "first search's best"))
     for name, c1, c2, v, right, rs_, rl, fb, best, _, _ in rs:
         note = fb if fb == best else "%s (archived run: %s)" % (fb, best)

@@ -302,17 +302,11 @@ std::vector<KnownFlight> trajectories_from_csv(const std::string& path) {
   while (std::getline(f, line)) {
     ++ln;
     if (line.empty() || line == "\r") continue;
-    std::vector<std::string> v;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) v.push_back(c);
+    const std::vector<std::string> v = split_csv_line(line);
     auto num = [&](int i) {
-      if (i >= static_cast<int>(v.size())) throw InputError("trajectory file '" + path + "' line " + std::to_string(ln) + ": too few columns");
-      char* e = nullptr;
-      const double d = std::strtod(v[i].c_str(), &e);
-      if (v[i].empty() || (*e && *e != '\r') || !std::isfinite(d))
-        throw InputError("trajectory file '" + path + "' line " + std::to_string(ln) + ": '" + v[i] + "' is not a number");
-      return d;
+      const std::string where = "trajectory file '" + path + "' line " + std::to_string(ln);
+      if (i >= static_cast<int>(v.size())) throw InputError(where + ": too few columns");
+      return parse_decimal(v[i], where);
     };
     const std::string k = ig >= 0 && ig < static_cast<int>(v.size()) ? v[ig] : "";
     if (keys.empty() || keys.back() != k) {

@@ -33,58 +33,6 @@ void make_dirs(const std::string& path) {
   }
 }
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  // Plain CSV as the spec uses it (no quoted commas in names).
-  std::vector<std::string> out;
-  std::string cell;
-  std::stringstream ss(line);
-  while (std::getline(ss, cell, ',')) {
-    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-    std::size_t b = 0;
-    while (b < cell.size() && cell[b] == ' ') ++b;
-    cell = cell.substr(b);
-    if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = cell.substr(1, cell.size() - 2);
-    out.push_back(cell);
-  }
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
-
-// A cell as quoted in a message: at most 40 bytes (a 5000-digit cell is
-// named, not echoed), cut between UTF-8 characters.
-std::string shown_cell(const std::string& s) {
-  if (s.size() <= 40) return "'" + s + "'";
-  std::size_t n = 37;
-  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // not inside a character
-  return "'" + s.substr(0, n) + "...'";
-}
-
-// A decimal number, as a tracker or a spreadsheet writes it: digits, a sign,
-// a point and an exponent. strtod alone would also read hexadecimal
-// ("0x1A" = 26) and "inf" or "nan".
-double parse_number(const std::string& s, const std::string& where) {
-  const bool decimal = !s.empty() && s.find_first_not_of("0123456789+-.eE") == std::string::npos;
-  if (!decimal && s.find_first_not_of("+-") != std::string::npos) {
-    const std::string low = [&] {
-      std::string l;
-      for (char c : s.substr(s.find_first_not_of("+-"))) l += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      return l;
-    }();
-    if (low.rfind("nan", 0) == 0 || low.rfind("inf", 0) == 0)
-      throw InputError(where + ": NaN or infinite value " + shown_cell(s));
-  }
-  char* end = nullptr;
-  const double v = decimal ? std::strtod(s.c_str(), &end) : 0.0;
-  if (!decimal || end == s.c_str() || *end != '\0') {
-    const auto digits = s.find_first_not_of("+-");
-    const bool hex = digits != std::string::npos && s.size() > digits + 1 && s[digits] == '0' &&
-                     (s[digits + 1] == 'x' || s[digits + 1] == 'X');
-    throw InputError(where + ": " + shown_cell(s) + (hex ? " is not a decimal number" : " is not a number"));
-  }
-  if (!std::isfinite(v)) throw InputError(where + ": " + shown_cell(s) + " is beyond the range of a number");
-  return v;
-}
-
 std::string fmt(double v) {
   std::ostringstream s;
   s.precision(17);
@@ -291,8 +239,8 @@ Dataset load_dataset(const std::string& path) {
     TrackedFlight& f = d.flights[it->second];
     if (f.glider != cells[1])
       throw InputError(where(lineno) + ": flight '" + name + "' changes glider from '" + f.glider + "' to '" + cells[1] + "'");
-    TrackedPoint p{parse_number(cells[2], where(lineno) + " t_s"), parse_number(cells[3], where(lineno) + " x_m"),
-                   parse_number(cells[4], where(lineno) + " y_m")};
+    TrackedPoint p{parse_decimal(cells[2], where(lineno) + " t_s"), parse_decimal(cells[3], where(lineno) + " x_m"),
+                   parse_decimal(cells[4], where(lineno) + " y_m")};
     if (!f.points.empty() && !(p.t > f.points.back().t))
       throw InputError(where(lineno) + ": time does not increase in flight '" + name + "'");
     f.points.push_back(p);

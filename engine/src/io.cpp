@@ -120,6 +120,53 @@ std::string printable_utf8(const std::string& s) {
   return out;
 }
 
+std::vector<std::string> split_csv_line(const std::string& line) {
+  // Plain CSV as the spec uses it (no quoted commas in names); a cell's
+  // surrounding white space (a spreadsheet's tab, a Windows \r) is not
+  // part of it.
+  std::vector<std::string> out;
+  std::string cell;
+  std::stringstream ss(line);
+  while (std::getline(ss, cell, ',')) {
+    const auto isws = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    while (!cell.empty() && isws(cell.back())) cell.pop_back();
+    std::size_t b = 0;
+    while (b < cell.size() && isws(cell[b])) ++b;
+    cell = cell.substr(b);
+    if (cell.size() >= 2 && cell.front() == '"' && cell.back() == '"') cell = cell.substr(1, cell.size() - 2);
+    out.push_back(cell);
+  }
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+std::string quoted_cell(const std::string& s) {
+  if (s.size() <= 40) return "'" + s + "'";
+  std::size_t n = 37;
+  while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;  // not inside a character
+  return "'" + s.substr(0, n) + "...'";
+}
+
+double parse_decimal(const std::string& s, const std::string& where) {
+  const bool decimal = !s.empty() && s.find_first_not_of("0123456789+-.eE") == std::string::npos;
+  const auto body = s.find_first_not_of("+-");
+  if (!decimal && body != std::string::npos && body <= 1) {
+    std::string low;
+    for (char c : s.substr(body)) low += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (low == "nan" || low == "inf" || low == "infinity")
+      throw InputError(where + ": NaN or infinite value " + quoted_cell(s));
+  }
+  char* end = nullptr;
+  const double v = decimal ? std::strtod(s.c_str(), &end) : 0.0;
+  if (!decimal || end == s.c_str() || *end != '\0') {
+    const bool hex = body != std::string::npos && s.size() > body + 1 && s[body] == '0' &&
+                     (s[body + 1] == 'x' || s[body + 1] == 'X');
+    throw InputError(where + ": " + quoted_cell(s) + (hex ? " is not a decimal number" : " is not a number"));
+  }
+  if (!std::isfinite(v)) throw InputError(where + ": " + quoted_cell(s) + " is beyond the range of a number");
+  return v;
+}
+
 std::string file_name(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
@@ -541,10 +588,10 @@ void write_into_special_file(const std::string& path, const std::string& text) {
 }
 
 // Writes text to a new temporary file beside path (temp_path_for), synced to
-// disk, and returns its name, registered for removal; the caller renames it
-// into place or discards it. On failure nothing is left behind and the
-// InputError names path.
-std::string write_temp(const std::string& path, const std::string& text) {
+// disk when `sync` (commit_temp_file syncs it itself), and returns its name,
+// registered for removal; the caller renames it into place or discards it.
+// On failure nothing is left behind and the InputError names path.
+std::string write_temp(const std::string& path, const std::string& text, bool sync) {
   const std::string tmp = temp_path_for(path);
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) {
@@ -560,7 +607,7 @@ std::string write_temp(const std::string& path, const std::string& text) {
     discard_temp_file(tmp);
     throw;
   }
-  int e = ::fsync(fd) != 0 ? errno : 0;
+  int e = sync && ::fsync(fd) != 0 ? errno : 0;
   if (::close(fd) != 0 && e == 0) e = errno;
   if (e != 0) {
     discard_temp_file(tmp);
@@ -586,7 +633,7 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   }
   std::string tmp;
   try {
-    tmp = write_temp(path, text);
+    tmp = write_temp(path, text, /*sync=*/false);  // commit_temp_file syncs it
   } catch (const InputError& e) {
     throw InputError(std::string(e.what()) + "; the old file, if any, is unchanged");
   }
@@ -626,7 +673,7 @@ void write_files_together(const std::vector<std::pair<std::string, std::string>>
         in_place.push_back(k);
         continue;
       }
-      temps.emplace_back(write_temp(path, text), path);
+      temps.emplace_back(write_temp(path, text, /*sync=*/true), path);
     }
     for (std::size_t k : in_place) {
       write_file_atomic(files[k].first, files[k].second);
@@ -834,7 +881,7 @@ std::shared_ptr<const CoefficientModel> model_from_json(const json& j) {
     // the model's range.
     for (const auto& [name, v] : {std::pair{"cd", c.value.cd}, std::pair{"cl", c.value.cl}, std::pair{"cm", c.value.cm}})
       if (std::abs(v) > kMaxCentreCoefficient)
-        r.fail(p + "." + name + " is " + fmt_number(v) + "; a flat plate's coefficients lie between -" +
+        r.fail(p + "." + name + " is " + fmt_number(v, 8) + "; a flat plate's coefficients lie between -" +
                fmt_number(kMaxCentreCoefficient) + " and " + fmt_number(kMaxCentreCoefficient));
     centres.push_back(c);
   }

@@ -305,3 +305,46 @@ TEST(OutputPaths, Utf8IsCheckedAsUnicodeDefinesIt) {
   EXPECT_EQ(hex_byte(0xE9), "E9");
   EXPECT_EQ(hex_byte(0xFF), "FF");
 }
+
+// CSV cells as a tracker or a spreadsheet writes them are read; what strtod
+// alone would also take (hexadecimal, inf, nan) is refused with the cell
+// named, and a long cell is quoted short.
+TEST(CsvCells, DecimalNumbersAreReadAndOthersNamed) {
+  EXPECT_EQ(parse_decimal("1.5E-3", "w"), 1.5e-3);
+  EXPECT_EQ(parse_decimal("+2", "w"), 2.0);
+  EXPECT_EQ(parse_decimal(".5", "w"), 0.5);
+  EXPECT_EQ(parse_decimal("-0", "w"), 0.0);
+  EXPECT_EQ(parse_decimal("1E+05", "w"), 1e5);
+  EXPECT_EQ(parse_decimal("1e-400", "w"), 0.0);  // underflows to zero, as strtod
+  const auto message = [](const std::string& cell) {
+    try {
+      parse_decimal(cell, "f.csv line 3 x_m");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("0x1A"), "f.csv line 3 x_m: '0x1A' is not a decimal number");
+  EXPECT_EQ(message("-0X1p3"), "f.csv line 3 x_m: '-0X1p3' is not a decimal number");
+  EXPECT_EQ(message("abc"), "f.csv line 3 x_m: 'abc' is not a number");
+  EXPECT_EQ(message("info"), "f.csv line 3 x_m: 'info' is not a number");
+  EXPECT_EQ(message("nancy"), "f.csv line 3 x_m: 'nancy' is not a number");
+  EXPECT_EQ(message("+-inf"), "f.csv line 3 x_m: '+-inf' is not a number");
+  EXPECT_EQ(message(""), "f.csv line 3 x_m: '' is not a number");
+  EXPECT_EQ(message("1.2.3"), "f.csv line 3 x_m: '1.2.3' is not a number");
+  EXPECT_EQ(message("NaN"), "f.csv line 3 x_m: NaN or infinite value 'NaN'");
+  EXPECT_EQ(message("-Infinity"), "f.csv line 3 x_m: NaN or infinite value '-Infinity'");
+  EXPECT_EQ(message("1e999"), "f.csv line 3 x_m: '1e999' is beyond the range of a number");
+  EXPECT_EQ(message(std::string(5000, '9')),
+            "f.csv line 3 x_m: '" + std::string(37, '9') + "...' is beyond the range of a number");
+  // 30 two-byte characters: cut at byte 36, between characters
+  std::string accents;
+  for (int i = 0; i < 30; ++i) accents += "\xC3\xA9";
+  EXPECT_EQ(quoted_cell(accents), "'" + accents.substr(0, 36) + "...'");
+  EXPECT_EQ(first_invalid_utf8(quoted_cell(accents)), std::string::npos);
+}
+
+TEST(CsvCells, CellsLoseTheirSurroundingWhiteSpaceAndQuotes) {
+  EXPECT_EQ(split_csv_line("a, b ,\t1.5\t,\"q\"\r"), (std::vector<std::string>{"a", "b", "1.5", "q"}));
+  EXPECT_EQ(split_csv_line("a,"), (std::vector<std::string>{"a", ""}));
+}

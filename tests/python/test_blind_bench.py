@@ -1402,6 +1402,7 @@ def test_second_search_ranks_on_the_archive_match_the_document():
     m = _bench_module("second_search_ranks")
     rs = m.rows(rb.ARCHIVE, rb.ARCHIVE_ESCALATE)
     hits = [x for x in rs if x[4]]
+    assert all(x[5] is not None and x[6] is not None for x in hits), "a named truth was not among the candidates"
     top2 = sum(1 for x in hits if x[5] <= 2)
     either = sum(1 for x in hits if x[5] <= 2 or x[6] <= 2)
     with open(os.path.join(ROOT, "docs", "diagnosis.md")) as f:

@@ -117,6 +117,24 @@ std::string hex_byte(unsigned char b);
 /// messages that quote a user's text (Python turns a message into str).
 std::string printable_utf8(const std::string& s);
 
+/// The cells of one line of plain CSV (no quoted commas): each without its
+/// surrounding white space (spaces, tabs, a Windows \r) and, if quoted,
+/// without its quotes. A line ending in ',' has an empty last cell.
+std::vector<std::string> split_csv_line(const std::string& line);
+
+/// A cell as a message quotes it: in single quotes, at most 40 bytes, cut
+/// between UTF-8 characters ("'999...'": a 5000-digit cell is named, not
+/// echoed).
+std::string quoted_cell(const std::string& cell);
+
+/// A CSV cell as a decimal number, as a tracker or a spreadsheet writes it:
+/// digits, a sign, a point and an exponent ("1.5E-3", "+2", ".5"). strtod
+/// alone would also take hexadecimal ("0x1A" = 26), "inf" and "nan".
+/// InputError "<where>: '<cell>' is not a number" (or "is not a decimal
+/// number" for hexadecimal, "NaN or infinite value '<cell>'", "is beyond
+/// the range of a number" for 1e999).
+double parse_decimal(const std::string& cell, const std::string& where);
+
 /// The last component of a path ("a/b.c" -> "b.c"; a bare name as it is).
 std::string file_name(const std::string& path);
 

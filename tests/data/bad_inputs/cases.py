@@ -195,6 +195,10 @@ CASES = [
     cmd("track_video_missing", "a video that does not exist",
         ["track", "{d}/none.avi", "--calib", "{d}/c.json", "--glider", GLIDER_OK, "-o", "{out}/data"],
         ["none.avi"]),
+    cmd("render_trajectory_hexadecimal", "render-video --trajectory with x_m written 0x1A",
+        ["render-video", GLIDER_OK, "-o", "{out}/v.avi", "--trajectory", "{d}/t.csv", "--quiet"],
+        ["t.csv' line 3", "'0x1A' is not a decimal number"],
+        files={"t.csv": "t_s,x_m,y_m\n0,0,1.5\n0.1,0x1A,1.5\n0.2,2,1.4\n"}),
 ]
 
 
