@@ -120,7 +120,9 @@ def main(argv=None):
         right = [a for a in also if a in truth]
         print("   %-28s %s %s  verdict %-15s also %-24s %s" % (
             name, "second search" if esc else "first search ", commit, v, ",".join(also),
-            "right" if right and len(right) == len(also) else "WRONG (truth %s)" % "+".join(truth)))
+            "right" if right and len(right) == len(also) else
+            "partly right (%s; not in the truth: %s)" % (",".join(right), ",".join(a for a in also if a not in truth))
+            if right else "WRONG (truth %s)" % "+".join(truth)))
     rows.sort(key=lambda x: -x[0])
     true_rows = [x for x in rows if x[6]]
     wrong_rows = [x for x in rows if not x[6]]

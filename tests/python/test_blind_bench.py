@@ -1414,3 +1414,17 @@ def test_second_search_ranks_on_the_archive_match_the_document():
     assert [int(x) for x in m_.groups()] == [len(hits), len(rs), top2]
     m_ = re.search(r"with the two best by the linearised screen added, in (\d+)", text)
     assert m_ and int(m_.group(1)) == either
+
+
+def test_second_effect_replay_says_when_also_is_partly_right(tmp_path, capsys):
+    # A two-effect case whose `also` holds its other true effect and one
+    # that is not in the truth (as pitch damping + wind s42-g20 did).
+    se = _bench_module("second_effect")
+    runs = tmp_path / "runs"
+    _archived(runs, "c1", "pitch_damping+wind-s42-g20", "wind", ["pitch_damping", "downwash"],
+              [("pitch_damping", 0.0120, 0.25, 400.0), ("downwash", 0.0150, 0.08, 50.0)])
+    se.main([str(runs)])
+    out = capsys.readouterr().out
+    assert "runs with a second effect in `also` (the standard as built): 1" in out
+    assert "partly right (pitch_damping; not in the truth: downwash)" in out
+    assert "WRONG" not in out
