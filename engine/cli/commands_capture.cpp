@@ -277,15 +277,7 @@ std::vector<KnownFlight> trajectories_from_csv(const std::string& path) {
   if (!f) throw InputError("cannot read trajectory file '" + path + "'");
   std::string line;
   if (!std::getline(f, line)) throw InputError("trajectory file '" + path + "' is empty");
-  std::vector<std::string> cols;
-  {
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) {
-      while (!c.empty() && (c.back() == '\r' || c.back() == ' ')) c.pop_back();
-      cols.push_back(c);
-    }
-  }
+  const std::vector<std::string> cols = split_csv_line(line);
   auto col = [&](const std::string& n) {
     for (std::size_t i = 0; i < cols.size(); ++i)
       if (cols[i] == n) return static_cast<int>(i);

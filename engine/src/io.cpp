@@ -638,10 +638,10 @@ void write_file_atomic(const std::string& path, const std::string& text) {
     throw InputError(std::string(e.what()) + "; the old file, if any, is unchanged");
   }
   if (text.empty()) {  // commit_temp_file refuses empty files; an empty text is legitimate here
-    const bool ok = std::rename(tmp.c_str(), output_target(path).c_str()) == 0;
-    if (!ok) std::remove(tmp.c_str());
-    unregister_temp(tmp);
-    if (!ok) throw InputError("cannot write '" + path + "': rename failed");
+    if (!rename_temp_into_place(tmp, path)) {
+      discard_temp_file(tmp);
+      throw InputError("cannot write '" + path + "': rename failed");
+    }
     return;
   }
   commit_temp_file(tmp, path);
@@ -831,9 +831,7 @@ json flat_plate_to_json(const FlatPlateParams& f) {
           {"edge_drag", f.edge_drag},
           {"alpha_valid_deg", f.alpha_valid_deg}};
 }
-}  // namespace
 
-namespace {
 constexpr double kMaxCentreCoefficient = 10.0;  ///< |cd|, |cl|, |cm| a model file may hold at a centre
 }  // namespace
 

@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "test_support.hpp"
 
 using namespace pteromys;
@@ -163,6 +165,26 @@ TEST(OutputPaths, LinksAreWrittenThroughAndSpecialFilesRefused) {
   ASSERT_EQ(::stat("/dev/null", &st), 0);
   EXPECT_TRUE(S_ISCHR(st.st_mode));
   EXPECT_THROW(write_file_atomic("", "x"), InputError);
+}
+
+// An empty text is a legitimate output (commit_temp_file refuses empty
+// files, so it takes its own rename): the old contents go and no temporary
+// file stays beside it; a directory in the way is refused before anything
+// is written.
+TEST(OutputPaths, AnEmptyTextReplacesAFileWholly) {
+  const std::string d = fresh_dir();
+  put(d + "/out.csv", "old contents\n");
+  write_file_atomic(d + "/out.csv", "");
+  EXPECT_EQ(read_file(d + "/out.csv"), "");
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(d)) names.push_back(e.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"out.csv"});
+  // a directory in the way: refused by name, nothing left in the folder
+  ASSERT_EQ(::mkdir((d + "/dir.csv").c_str(), 0777), 0);
+  EXPECT_THROW(write_file_atomic(d + "/dir.csv", ""), InputError);
+  std::size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(d)) n += e.path().filename() != "dir.csv";
+  EXPECT_EQ(n, 1u);
 }
 
 // A report may replace only a new, empty or earlier report directory.
