@@ -56,10 +56,9 @@ def order(effects, key):
     return [e["name"] for e in sorted(aero, key=lambda e: -(key(e) if key(e) is not None else -1e300))]
 
 
-def rank(effects, truth, key):
-    """1-based rank of `truth` in order(effects, key); None when the truth
+def rank(names, truth):
+    """1-based rank of `truth` in `names` (an order()); None when the truth
     was not fitted."""
-    names = order(effects, key)
     return names.index(truth) + 1 if truth in names else None
 
 
@@ -99,8 +98,7 @@ def rows(first_root, second_root):
         by_shrink = order(effects, lambda e: e.get("shrink"))
         by_screen = order(effects, lambda e: e.get("linearised_delta_chi2"))
         out.append((name, c1, commit, r2["verdict"], r2["verdict"] == truth,
-                    rank(effects, truth, lambda e: e.get("shrink")),
-                    rank(effects, truth, lambda e: e.get("linearised_delta_chi2")),
+                    rank(by_shrink, truth), rank(by_screen, truth),
                     r2["escalation"].get("first_best", ""), best, by_shrink, by_screen))
     return out
 
