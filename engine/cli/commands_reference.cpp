@@ -126,7 +126,7 @@ int run_generate(const std::vector<std::string>& argv) {
   o.camera.roll_error_deg = a.number("--camera-roll-deg", o.camera.roll_error_deg);
   o.wind_m_s = a.number("--wind", -1.0);
   o.threads = a.whole("--threads", 2, 1, 64);
-  o.dt = a.number("--dt", 0.002);
+  o.dt = check_time_step(a.number("--dt", 0.002), "--dt");
   o.aero.span_panels = a.whole("--span-panels", o.aero.span_panels, 1, 200);
   o.aero.chord_panels = a.whole("--chord-panels", o.aero.chord_panels, 1, 50);
 

@@ -35,7 +35,7 @@ double element_spacing(double dz);
 double launch_height(double height);
 /// A simulation step [s] if in [1e-5, 0.05], as every command's --dt (a
 /// smaller one would run for hours); otherwise InputError "dt must be in
-/// [1e-05, 0.05] s".
+/// [1e-05, 0.05] s, got <dt>".
 double time_step(double dt);
 /// One launch from Python keywords (simulate, reference_simulate): every
 /// value finite, speed and height not negative; pitch_deg None = along the path.

@@ -87,7 +87,9 @@ double QuasiStaticAero::max_alpha(const FlightState& s) const {
 double QuasiStaticAero::alpha_limit() const { return g_.alpha_limit(); }
 
 double check_time_step(double dt, const std::string& name) {
-  if (!(dt >= kMinTimeStep) || dt > kMaxTimeStep) throw InputError(name + " must be in [1e-05, 0.05] s");
+  if (!(dt >= kMinTimeStep) || dt > kMaxTimeStep)
+    throw InputError(name + " must be in [" + fmt_number(kMinTimeStep) + ", " + fmt_number(kMaxTimeStep) +
+                     "] s, got " + fmt_number(dt, 9));
   return dt;
 }
 

@@ -100,7 +100,7 @@ void check_options(const GenerateOptions& o) {
     check_range(o.camera.roll_deg + f * o.camera.roll_error_deg, -90.0, 90.0,
                 "camera roll with its roll error at the camera effect's strength [deg]");
   }
-  check_range(o.dt, kMinTimeStep, kMaxTimeStep, "time step [s]");
+  check_time_step(o.dt, "the time step");
   if (o.retrim) check_range(o.retrim_alpha_deg, -5.0, 15.0, "trim angle of attack [deg]");
   const LauncherModel& l = o.launcher;
   check_range(l.speed_min, 0.1, 100.0, "launch speed [m/s]");

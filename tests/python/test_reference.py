@@ -185,7 +185,7 @@ def test_generate_shows_progress(tmp_path):
 
 def test_generate_from_python_refuses_a_step_the_command_refuses(tmp_path):
     # generate --dt takes [1e-05, 0.05] s; the binding took any positive step
-    with pytest.raises(pteromys.InputError, match="dt must be in \\[1e-05, 0.05\\] s"):
+    with pytest.raises(pteromys.InputError, match="^dt must be in \\[1e-05, 0.05\\] s, got 0.5$"):
         pteromys.generate_dataset([CANARD], str(tmp_path / "py"), flights_per_glider=2, dt=0.5)
     assert not (tmp_path / "py").exists()
 
@@ -242,6 +242,9 @@ def test_generated_noise_matches_sigma(tmp_path):
     (["--speed", "7:9", "--speed-relative", "1:1.3"], "give launch speeds once"),
     (["--speed-relative", "0.1:1"], "between 0.3 and 5"),
     (["--retrim", "40"], "trim angle of attack"),
+    # the command names its option and the value, as fit and diagnose do
+    (["--dt", "0.1"], "--dt must be in [1e-05, 0.05] s, got 0.1"),
+    (["--dt", "1e-7"], "--dt must be in [1e-05, 0.05] s, got 1e-07"),
 ])
 def test_generate_refuses_bad_options_without_output(tmp_path, args, words):
     out = tmp_path / "ds"

@@ -115,7 +115,8 @@ enum class Integrator { Verlet, RK4 };
 /// pitch oscillation of a small glider.
 inline constexpr double kMinTimeStep = 1e-5, kMaxTimeStep = 0.05;
 /// dt if it is in [kMinTimeStep, kMaxTimeStep]; otherwise InputError
-/// "<name> must be in [1e-05, 0.05] s" (NaN included).
+/// "<name> must be in [1e-05, 0.05] s, got <dt>" (NaN included; the bounds
+/// in the message are written from the constants).
 double check_time_step(double dt, const std::string& name);
 
 struct SimOptions {
