@@ -168,7 +168,8 @@ void write_report(const std::string& json_path, const std::string& dir, bool qui
 
 int run_diagnose(const std::vector<std::string>& argv) {
   const std::set<std::string> valued = {"--json", "--report", "--model", "--folds", "--effects", "--alpha",
-                                        "--min-shrink", "--none-tolerance", "--max-centres", "--insertion-tries", "--threads",
+                                        "--min-shrink", "--none-tolerance", "--collinearity-limit",
+                                        "--max-centres", "--insertion-tries", "--threads",
                                         "--ground-y", "--dt", "--dz", "--launch-window", "--near-ground",
                                         "--iterations", "--worst-flights", "--polish", "--launch-rotation",
                                         "--oracle", "--plausible", "--profile-min-gliders",
@@ -257,6 +258,9 @@ int run_diagnose(const std::vector<std::string>& argv) {
   if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("--min-shrink must be in [0, 1)");
   o.none_tolerance = a.number("--none-tolerance", o.none_tolerance);
   if (!(o.none_tolerance >= 0) || !std::isfinite(o.none_tolerance)) throw InputError("--none-tolerance must not be negative");
+  o.collinearity_limit = a.number("--collinearity-limit", o.collinearity_limit);
+  if (!(o.collinearity_limit > 0 && o.collinearity_limit <= 1))
+    throw InputError("--collinearity-limit must be in (0, 1] (an R-squared)");
   o.fit.max_centres = a.whole("--max-centres", o.fit.max_centres, 1, 200);
   o.fit.insertion_tries = a.whole("--insertion-tries", o.fit.insertion_tries, 1, 1000);
   o.threads = a.whole("--threads", 0, 0, 256);
@@ -316,11 +320,13 @@ int run_diagnose(const std::vector<std::string>& argv) {
               << o.effects.size() << " candidate effects, " << folds << " folds"
               << (folds < o.folds ? " (at most one per glider; " + std::to_string(o.folds) + " asked)" : std::string())
               << "\n";
-    for (const auto& k : d.defaulted)
-      std::cerr << "pteromys diagnose: warning: " << path << " gives no " << k << "; " << defaulted_value(d, k)
-                << " is assumed" << (k == "tracking_sigma_m" ? " (the verdicts none and unexplained are judged against it)" : "")
-                << "\n";
   }
+  // a value the verdict rests on, assumed: said even with --quiet, which
+  // stops progress, not warnings
+  for (const auto& k : d.defaulted)
+    std::cerr << "pteromys diagnose: warning: " << path << " gives no " << k << "; " << defaulted_value(d, k)
+              << " is assumed" << (k == "tracking_sigma_m" ? " (the verdicts none and unexplained are judged against it)" : "")
+              << "\n";
   const DiagnoseCallback progress = [quiet](const DiagnoseProgress& p) {
     if (quiet) return;
     char head[64];
@@ -402,6 +408,8 @@ const bool registered_diagnose = register_command(
          "  --no-holdout-test       do not require the held-out chi-square confirmation\n"
          "  --none-tolerance T      'none' when the held-out chi-square ratio is <= 1 + T\n"
          "                          (default 0.3)\n"
+         "  --collinearity-limit R  an effect whose signature re-tuned coefficients reproduce to\n"
+         "                          an R-squared above R cannot be told apart from them (default 0.95)\n"
          "  --max-centres N         RBF centres of the baseline fits (default 10)\n"
          "  --insertion-tries N     experimental: centres tried per insertion of the coefficient fits\n"
          "                          while they stay over twice the tracking noise (default 1)\n"

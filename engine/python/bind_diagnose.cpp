@@ -157,7 +157,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   o.sim.ground_y = num("ground_y", 0.0);
   if (!std::isfinite(o.sim.ground_y)) throw InputError("ground_y must be a finite number (m)");
   if (!(o.collinearity_limit > 0 && o.collinearity_limit <= 1))
-    throw InputError("collinearity_limit must be in (0, 1] (a cosine)");
+    throw InputError("collinearity_limit must be in (0, 1] (an R-squared)");
   o.sim.dt = num("dt", o.sim.dt);
   o.sim.max_iterations = whole("iterations", o.sim.max_iterations, 1, 1000);
   o.launch_window_s = num("launch_window_s", o.launch_window_s);

@@ -14,6 +14,8 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -3332,7 +3334,20 @@ json diagnosis_options_json(const DiagnoseOptions& o) {
             {"refit_unstepped", o.refit_unstepped},
             {"step_alpha", o.step_level()},
             {"launch_rotation", o.launch_rotation_per_flight ? "per-flight" : "common"},
-            {"second_effect", o.second_effect}};
+            {"second_effect", o.second_effect},
+            {"dz_m", o.sim.aero.dz},
+            {"iterations", o.sim.max_iterations}};
+  // The model the coefficient fits start from (--model): its type and a
+  // fingerprint of its file's content, so that a second search refuses a
+  // first search made from another model (its baseline would not compare).
+  {
+    const json mj = o.start ? model_to_json(*o.start) : model_to_json(FlatPlateModel(o.fit.prior));
+    std::uint64_t h = 14695981039346656037ull;  // FNV-1a, 64 bits
+    for (unsigned char c : mj.dump()) h = (h ^ c) * 1099511628211ull;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    j["model"] = {{"type", mj.value("type", std::string())}, {"fingerprint", hex}};
+  }
   // The plausible sizes in force (reported units; effects without a finite
   // one are left out).
   json lim = json::object();

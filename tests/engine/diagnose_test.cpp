@@ -2472,3 +2472,46 @@ TEST(Diagnose, AStabilityReRunOfASecondSearchsResultSearchesTwiceAgain) {
   EXPECT_THROW(stability_rerun_options(o, plain, 0.0), InputError);
   EXPECT_THROW(stability_rerun_options(o, plain, std::nan("")), InputError);
 }
+
+// A second search after a first result compares the two results' `options`
+// key by key, so every option that shapes the baseline must be there: the
+// element spacing, the solver's iterations and the start model (a model that
+// differs in one centre value by 0.001, or a flat-plate prior with another
+// stall angle, gives another fingerprint; the same model gives the same).
+TEST(Diagnose, OptionsRecordTheSpacingIterationsAndStartModel) {
+  const DiagnoseOptions a;
+  const nlohmann::json ja = diagnosis_options_json(a);
+  EXPECT_EQ(ja, diagnosis_options_json(a));
+  EXPECT_EQ(ja["dz_m"], a.sim.aero.dz);
+  EXPECT_EQ(ja["iterations"], a.sim.max_iterations);
+  EXPECT_EQ(ja["model"]["type"], "flat_plate");
+  EXPECT_TRUE(std::regex_match(ja["model"]["fingerprint"].get<std::string>(), std::regex("[0-9a-f]{16}")));
+
+  DiagnoseOptions b = a;
+  b.sim.aero.dz = 0.01;
+  EXPECT_EQ(diagnosis_options_json(b)["dz_m"], 0.01);
+  b = a;
+  b.sim.max_iterations = 9;
+  EXPECT_EQ(diagnosis_options_json(b)["iterations"], 9);
+  b = a;
+  b.fit.prior.stall_deg = 11.0;
+  EXPECT_NE(diagnosis_options_json(b)["model"], ja["model"]);
+
+  const nlohmann::json fitted = nlohmann::json::parse(read_file(test::source_path("engine/models/fitted.model.json")));
+  DiagnoseOptions c = a;
+  c.start = std::dynamic_pointer_cast<const RbfModel>(model_from_json(fitted));
+  ASSERT_TRUE(c.start);
+  const nlohmann::json jc = diagnosis_options_json(c);
+  EXPECT_EQ(jc["model"]["type"], "rbf");
+  EXPECT_NE(jc["model"]["fingerprint"], ja["model"]["fingerprint"]);
+  DiagnoseOptions same = a;
+  same.start = std::dynamic_pointer_cast<const RbfModel>(model_from_json(fitted));
+  EXPECT_EQ(diagnosis_options_json(same)["model"], jc["model"]);
+  nlohmann::json nudged = fitted;
+  ASSERT_FALSE(nudged["centres"].empty());
+  nudged["centres"][0]["cl"] = nudged["centres"][0]["cl"].get<double>() + 1e-3;
+  DiagnoseOptions d = a;
+  d.start = std::dynamic_pointer_cast<const RbfModel>(model_from_json(nudged));
+  ASSERT_TRUE(d.start);
+  EXPECT_NE(diagnosis_options_json(d)["model"]["fingerprint"], jc["model"]["fingerprint"]);
+}

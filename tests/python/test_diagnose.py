@@ -50,9 +50,21 @@ def camera_case(tmp_path_factory):
     ds = _generate(tmp, "data", "camera", "camera=3", extra=["--frame-rate", "10", "--noise-m", "0.02"])
     out = tmp / "diagnosis.json"
     rep = tmp / "report"
-    r = run(["diagnose", ds, "--json", out, "--report", rep] + FAST)
+    # --collinearity-limit a little off its default (0.95): it only moves
+    # the "cannot be told apart" flags (test_the_collinearity_limit_is_the_commands)
+    r = run(["diagnose", ds, "--json", out, "--report", rep, "--collinearity-limit", "0.96"] + FAST)
     assert r.returncode == 0, r.stderr[-3000:]
     return ds, load(out), rep, r
+
+
+def test_the_collinearity_limit_is_the_commands(camera_case):
+    """--collinearity-limit reaches the result: an effect is flagged as
+    indistinguishable from re-tuned coefficients exactly when its R-squared
+    is above the limit the command was given."""
+    _, j, _, _ = camera_case
+    assert j["options"]["collinearity_limit"] == 0.96
+    for e in j["effects"]:
+        assert e["indistinguishable_from_coefficients"] == (e["coefficient_collinearity"] > 0.96), e["name"]
 
 
 def test_result_has_the_spec_keys_and_every_library_effect(camera_case):
@@ -671,7 +683,14 @@ def test_python_call_refuses_a_first_result_it_cannot_check(tmp_path):
               (dict(theory_starts=True, first=gap), "has no options"),
               (dict(theory_starts=True, first=dict(gap, options={"theory_starts": True})), "not a first search"),
               (dict(theory_starts=True, folds=3, first=dict(gap, options={"folds": 4})),
-               "other options than this second search .*folds 4 there, 3 here")]
+               "other options than this second search .*folds 4 there, 3 here"),
+              # the solver's iterations and the start model shape the
+              # baseline too (they were not compared before 2026-12-07)
+              (dict(theory_starts=True, iterations=9, first=dict(gap, options={"iterations": 8})),
+               "other options than this second search .*iterations 8 there, 9 here"),
+              (dict(theory_starts=True, first=dict(gap, options={"model": {"type": "rbf", "fingerprint": "0" * 16}})),
+               'other options than this second search .*model {"fingerprint":"0{16}","type":"rbf"} there, '
+               '{"fingerprint":"[0-9a-f]{16}","type":"flat_plate"} here')]
     for kw, words in cases:
         with pytest.raises(Exception, match=words):
             pteromys.diagnose(ds, **kw)
@@ -698,6 +717,8 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--plausible", "camera=0.05:-3"], "not a positive size"),
     (["diagnose", "DS", "--json", "OUT", "--plausible", "wind=calm"], "not a number"),
     (["diagnose", "DS", "--json", "OUT", "--profile", "--no-profile"], "contradict"),
+    (["diagnose", "DS", "--json", "OUT", "--collinearity-limit", "0"], "--collinearity-limit must be in (0, 1]"),
+    (["diagnose", "DS", "--json", "OUT", "--collinearity-limit", "1.5"], "--collinearity-limit must be in (0, 1]"),
     (["diagnose", "DS", "--json", "OUT", "--zeroed-reference", "--no-zeroed-reference"], "contradict"),
     (["diagnose", "DS", "--json", "OUT", "--profile-min-gliders", "0"], "--profile-min-gliders"),
     (["diagnose", "DS", "--json", "OUT", "--profiled-candidates", "-1"], "--profiled-candidates"),

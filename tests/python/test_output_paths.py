@@ -277,7 +277,9 @@ def test_a_byte_order_mark_is_read_and_a_missing_noise_is_said(tmp_path, dataset
         return ["\ufeff" + lines[0]] + lines[1:]
     ds = _rewrite(dataset, tmp_path / "d", bom, lambda j: j.pop("tracking_sigma_m"))
     assert (tmp_path / "d" / "flights.csv").read_bytes().startswith(b"\xef\xbb\xbf")
-    r = run(["diagnose", ds, "--json", tmp_path / "o.json"] + QUICK[:-1])
+    # said even with --quiet (QUICK's last), which stops progress, not warnings
+    assert QUICK[-1] == "--quiet"
+    r = run(["diagnose", ds, "--json", tmp_path / "o.json"] + QUICK)
     assert r.returncode == 0, r.stderr
     assert "gives no tracking_sigma_m; 0.05 m is assumed" in r.stderr
     # the same as with 0.05 m given (and without the mark)

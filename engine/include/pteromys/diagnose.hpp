@@ -966,7 +966,10 @@ void add_stability_json(nlohmann::json& j, const StabilityCheck& s);
 /// significant}], verdict) plus summary, where, effects' parameters and
 /// tests, folds, report data and timings.
 nlohmann::json diagnosis_json(const DiagnoseResult& r, const DiagnoseOptions& o);
-/// The result's "options" object (diagnosis_json's): every option in force.
+/// The result's "options" object (diagnosis_json's): every option in force
+/// that shapes the result, the element spacing (dz_m), solver iterations and
+/// the start model's type and fingerprint (a hash of model_to_json) among
+/// them; a second search compares it with its first search's.
 nlohmann::json diagnosis_options_json(const DiagnoseOptions& o);
 
 /// Where the gap lies (docs/diagnosis.md): the residuals of `flights`
