@@ -772,6 +772,29 @@ def test_help_lists_the_command():
     assert r.returncode == 0 and "--report" in r.stdout
 
 
+def test_the_documented_options_are_the_commands():
+    """Every option docs/diagnosis.md's "Using it" table names is one the
+    command takes (its --help lists it), and every option --help lists is
+    either in the table or left to its last row ("every other option"), so
+    a person who copies from the table is never told "unknown option"."""
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    using = text.split("## Using it", 1)[1].split("\n## ", 1)[0]
+    lines = using.splitlines()
+    start = lines.index("| for | options |")
+    table = []
+    for l in lines[start:]:
+        if not l.startswith("|"):
+            break
+        table.append(l)
+    assert table and table[-1].startswith("| reproducing the measurements below | every other option")
+    named = set(re.findall(r"`(--[a-z][a-z-]*)", "\n".join(table)))
+    assert len(named) >= 20, named
+    r = run(["diagnose", "--help"])
+    offered = set(re.findall(r"^\s+(--[a-z][a-z-]*)", r.stdout, re.M))
+    assert len(offered) > len(named), offered
+    assert named <= offered, sorted(named - offered)
+
+
 def test_python_call_accepts_every_option_the_engine_reads():
     """The wrapper's keyword list is written by hand beside the binding that
     reads the options (engine/python/bind_diagnose.cpp, options_from): an
