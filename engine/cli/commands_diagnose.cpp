@@ -44,7 +44,11 @@ std::vector<Effect> parse_effect_list(const std::string& s) {
   std::string item;
   while (std::getline(ss, item, ',')) {
     if (item.empty()) continue;
-    out.push_back(effect_from_name(item));
+    const Effect e = effect_from_name(item);
+    // refused here, before the dataset is read, as diagnose() would after
+    if (std::find(out.begin(), out.end(), e) != out.end())
+      throw InputError("--effects: candidate effect '" + item + "' is listed twice");
+    out.push_back(e);
   }
   if (out.empty()) throw InputError("--effects needs at least one effect name");
   return out;
@@ -311,10 +315,12 @@ int run_diagnose(const std::vector<std::string>& argv) {
     check_distinct_outputs(out, in);
   }
   const bool quiet = a.flag("--quiet");
-  if (!quiet) {
+  std::set<std::string> flown;
+  for (const auto& f : d.flights) flown.insert(f.glider);
+  // (fewer than 3 gliders: diagnose() refuses the dataset, and a header
+  // saying "1 folds" would only stand before its message)
+  if (!quiet && flown.size() >= 3) {
     // leave-gliders-out: at most one fold per glider with flights
-    std::set<std::string> flown;
-    for (const auto& f : d.flights) flown.insert(f.glider);
     const int folds = std::min<int>(o.folds, static_cast<int>(flown.size()));
     std::cerr << "pteromys diagnose: " << d.flights.size() << " flights of " << flown.size() << " gliders, "
               << o.effects.size() << " candidate effects, " << folds << " folds"

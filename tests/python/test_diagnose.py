@@ -717,6 +717,9 @@ def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):
     (["diagnose", "DS", "--json", "OUT", "--plausible", "camera=0.05:-3"], "not a positive size"),
     (["diagnose", "DS", "--json", "OUT", "--plausible", "wind=calm"], "not a number"),
     (["diagnose", "DS", "--json", "OUT", "--profile", "--no-profile"], "contradict"),
+    # refused before the dataset is read (here it does not exist)
+    (["diagnose", "/nonexistent/dataset.json", "--json", "OUT", "--effects", "wind,camera,wind"],
+     "--effects: candidate effect 'wind' is listed twice"),
     (["diagnose", "DS", "--json", "OUT", "--collinearity-limit", "0"], "--collinearity-limit must be in (0, 1]"),
     (["diagnose", "DS", "--json", "OUT", "--collinearity-limit", "1.5"], "--collinearity-limit must be in (0, 1]"),
     (["diagnose", "DS", "--json", "OUT", "--zeroed-reference", "--no-zeroed-reference"], "contradict"),
@@ -761,7 +764,9 @@ def test_two_gliders_are_too_few_for_leave_gliders_out(tmp_path):
     assert run(["generate", gl, "-o", ds, "--flights-per-glider", "3", "--quiet", "--effects", "baseline"]).returncode == 0
     out = tmp_path / "out.json"
     r = run(["diagnose", ds / "dataset.json", "--json", out])
-    assert r.returncode != 0 and "at least 3 gliders" in r.stderr
+    assert r.returncode == 2 and "at least 3 gliders" in r.stderr
+    # the refusal alone, no header of folds that will not run before it
+    assert len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert not out.exists()
 
 
