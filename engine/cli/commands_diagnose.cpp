@@ -328,11 +328,12 @@ int run_diagnose(const std::vector<std::string>& argv) {
               << "\n";
   }
   // a value the verdict rests on, assumed: said even with --quiet, which
-  // stops progress, not warnings
-  for (const auto& k : d.defaulted)
-    std::cerr << "pteromys diagnose: warning: " << path << " gives no " << k << "; " << defaulted_value(d, k)
-              << " is assumed" << (k == "tracking_sigma_m" ? " (the verdicts none and unexplained are judged against it)" : "")
-              << "\n";
+  // stops progress, not warnings (not before a refusal of the dataset)
+  if (flown.size() >= 3)
+    for (const auto& k : d.defaulted)
+      std::cerr << "pteromys diagnose: warning: " << path << " gives no " << k << "; " << defaulted_value(d, k)
+                << " is assumed"
+                << (k == "tracking_sigma_m" ? " (the verdicts none and unexplained are judged against it)" : "") << "\n";
   const DiagnoseCallback progress = [quiet](const DiagnoseProgress& p) {
     if (quiet) return;
     char head[64];
@@ -530,7 +531,8 @@ const bool registered_diagnose = register_command(
          "  --threads N             worker threads (default: all cores)\n"
          "  --dt S                  simulation step [s] (default 0.002)\n"
          "  --dz M                  wing-element spacing [m] (default 0.005)\n"
-         "  --quiet                 no progress\n",
+         "  --quiet                 no progress and no summary on stdout (warnings and errors\n"
+         "                          are still said)\n",
          run_diagnose});
 
 }  // namespace

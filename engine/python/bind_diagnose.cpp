@@ -159,6 +159,7 @@ DiagnoseOptions options_from(const py::dict& kw) {
   if (!(o.collinearity_limit > 0 && o.collinearity_limit <= 1))
     throw InputError("collinearity_limit must be in (0, 1] (an R-squared)");
   o.sim.dt = num("dt", o.sim.dt);
+  o.sim.aero.dz = element_spacing(num("dz", o.sim.aero.dz));
   o.sim.max_iterations = whole("iterations", o.sim.max_iterations, 1, 1000);
   o.launch_window_s = num("launch_window_s", o.launch_window_s);
   o.near_ground_m = num("near_ground_m", o.near_ground_m);
@@ -396,9 +397,19 @@ void bind_diagnose(py::module_& m) {
         if (j["options"].value("theory_starts", false))
           throw InputError("first was itself made with theory_starts: it is not a first search");
         const json here = diagnosis_options_json(o);
+        // dz_m, iterations and model are recorded since 2026-12-07; a first
+        // result written before lacks them. It is taken as made with their
+        // defaults (the runs archived in bench/diagnosis were) when this
+        // search uses the defaults too, and refused otherwise.
+        DiagnoseOptions plain;
+        if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(default_model())) plain.fit.prior = fp->params();
+        const json defaults = diagnosis_options_json(plain);
         std::string differ;
         for (const auto& [key, value] : here.items()) {
           if (key == "theory_starts" || key == "escalate") continue;
+          if (!j["options"].contains(key) && (key == "dz_m" || key == "iterations" || key == "model") &&
+              value == defaults[key])
+            continue;
           const json there = j["options"].contains(key) ? j["options"][key] : json();
           if (there != value)
             differ += (differ.empty() ? "" : "; ") + key + " " + (there.is_null() ? "missing" : there.dump()) +

@@ -3338,8 +3338,11 @@ json diagnosis_options_json(const DiagnoseOptions& o) {
             {"dz_m", o.sim.aero.dz},
             {"iterations", o.sim.max_iterations}};
   // The model the coefficient fits start from (--model): its type and a
-  // fingerprint of its file's content, so that a second search refuses a
-  // first search made from another model (its baseline would not compare).
+  // fingerprint of the model as model_to_json writes it (not of its file:
+  // two spellings of the same numbers agree), so that a second search
+  // refuses a first search made from another model, whose baseline would
+  // not compare. A change of model_to_json's output changes every
+  // fingerprint.
   {
     const json mj = o.start ? model_to_json(*o.start) : model_to_json(FlatPlateModel(o.fit.prior));
     std::uint64_t h = 14695981039346656037ull;  // FNV-1a, 64 bits

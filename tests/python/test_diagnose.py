@@ -50,21 +50,31 @@ def camera_case(tmp_path_factory):
     ds = _generate(tmp, "data", "camera", "camera=3", extra=["--frame-rate", "10", "--noise-m", "0.02"])
     out = tmp / "diagnosis.json"
     rep = tmp / "report"
-    # --collinearity-limit a little off its default (0.95): it only moves
-    # the "cannot be told apart" flags (test_the_collinearity_limit_is_the_commands)
-    r = run(["diagnose", ds, "--json", out, "--report", rep, "--collinearity-limit", "0.96"] + FAST)
+    r = run(["diagnose", ds, "--json", out, "--report", rep] + FAST)
     assert r.returncode == 0, r.stderr[-3000:]
     return ds, load(out), rep, r
 
 
-def test_the_collinearity_limit_is_the_commands(camera_case):
-    """--collinearity-limit reaches the result: an effect is flagged as
-    indistinguishable from re-tuned coefficients exactly when its R-squared
-    is above the limit the command was given."""
-    _, j, _, _ = camera_case
-    assert j["options"]["collinearity_limit"] == 0.96
-    for e in j["effects"]:
-        assert e["indistinguishable_from_coefficients"] == (e["coefficient_collinearity"] > 0.96), e["name"]
+def test_the_collinearity_limit_is_the_commands(tmp_path):
+    """--collinearity-limit reaches the result: the same data diagnosed
+    with the limit at 1e-6 and at 1 (a quick run: two candidates, coefficients
+    fixed) flag every effect with any collinearity as indistinguishable from
+    re-tuned coefficients in the first, and none in the second."""
+    ds = _generate(tmp_path, "d", "camera", "camera=3", extra=["--frame-rate", "10", "--noise-m", "0.02"])
+    quick = ["--folds", "3", "--effects", "wind,camera", "--iterations", "2", "--max-centres", "2",
+             "--no-full-fit", "--threads", "2", "--no-profile", "--quiet"]
+    flags = {}
+    for limit in ("1e-6", "1"):
+        out = tmp_path / ("d%s.json" % limit)
+        r = run(["diagnose", ds, "--json", out, "--collinearity-limit", limit] + quick)
+        assert r.returncode == 0, r.stderr[-3000:]
+        j = load(out)
+        assert j["options"]["collinearity_limit"] == float(limit)
+        flags[limit] = {e["name"]: (e["coefficient_collinearity"], e["indistinguishable_from_coefficients"])
+                        for e in j["effects"]}
+    assert any(c > 1e-6 for c, _ in flags["1e-6"].values()), flags
+    assert all(f == (c > 1e-6) for c, f in flags["1e-6"].values()), flags
+    assert not any(f for _, f in flags["1"].values()), flags
 
 
 def test_result_has_the_spec_keys_and_every_library_effect(camera_case):
@@ -688,12 +698,25 @@ def test_python_call_refuses_a_first_result_it_cannot_check(tmp_path):
               # baseline too (they were not compared before 2026-12-07)
               (dict(theory_starts=True, iterations=9, first=dict(gap, options={"iterations": 8})),
                "other options than this second search .*iterations 8 there, 9 here"),
+              # a first result written before they were recorded: taken as
+              # made with their defaults, so refused when this call's differ
+              (dict(theory_starts=True, iterations=9, first=dict(gap, options={"folds": 4})),
+               "other options than this second search .*iterations missing there, 9 here"),
+              (dict(theory_starts=True, dz=0.01, first=dict(gap, options={"folds": 4})),
+               "other options than this second search .*dz_m missing there, 0.01 here"),
+              (dict(dz=0.2), "dz must be in \\(0, 0.1\\] m"),
               (dict(theory_starts=True, first=dict(gap, options={"model": {"type": "rbf", "fingerprint": "0" * 16}})),
                'other options than this second search .*model {"fingerprint":"0{16}","type":"rbf"} there, '
                '{"fingerprint":"[0-9a-f]{16}","type":"flat_plate"} here')]
     for kw, words in cases:
         with pytest.raises(Exception, match=words):
             pteromys.diagnose(ds, **kw)
+    # ... and not for them when this call's are the defaults
+    with pytest.raises(Exception, match="other options than this second search") as e:
+        pteromys.diagnose(ds, theory_starts=True, folds=3, first=dict(gap, options={"folds": 4}))
+    assert "folds 4 there, 3 here" in str(e.value)
+    for key in ("dz_m", "iterations", "model"):
+        assert key + " missing" not in str(e.value), str(e.value)
 
 
 def test_python_call_refuses_a_bad_launch_rotation_mode(tmp_path):

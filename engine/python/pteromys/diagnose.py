@@ -29,7 +29,7 @@ def report_dir_problem(path):
 
 def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, min_shrink=0.05,
              holdout_chi2_test=True, none_tolerance=0.3, collinearity_limit=0.95, max_centres=10, polish=0,
-             insertion_tries=1, full_fit=True, iterations=8, ground_y=0.0, dt=0.002, launch_window_s=0.25,
+             insertion_tries=1, full_fit=True, iterations=8, ground_y=0.0, dt=0.002, dz=0.005, launch_window_s=0.25,
              near_ground_m=0.3, worst_flights=6, launch_rotation="per-flight", second_effect=True, profile=True,
              profile_min_gliders=6, profiled_candidates=3, glider_guard=True, bound_guard=True,
              launch_withhold=True, launch_rates_confirm=True, launch_withhold_dominance=5.0,
@@ -44,6 +44,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``effect_library()``).
     ``model``: an RBF model (or path) the coefficient fits start from, or a
     flat-plate model used as their prior. ``folds``: leave-gliders-out folds.
+    ``dt``, ``dz``: simulation step [s] and wing-element spacing [m], as the
+    command's --dt and --dz.
     ``alpha``: family-wise level of the likelihood-ratio tests (Holm).
     ``launch_rotation``: "per-flight" (each flight's own pitch rate at its
     first point is fitted) or "common" (one rate for the session).
@@ -141,7 +143,7 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
                 alpha=alpha, min_shrink=min_shrink, holdout_chi2_test=bool(holdout_chi2_test),
                 none_tolerance=none_tolerance, collinearity_limit=collinearity_limit, max_centres=max_centres,
                 insertion_tries=insertion_tries,
-                polish=polish, full_fit=bool(full_fit), iterations=iterations, ground_y=ground_y, dt=dt,
+                polish=polish, full_fit=bool(full_fit), iterations=iterations, ground_y=ground_y, dt=dt, dz=dz,
                 launch_window_s=launch_window_s, near_ground_m=near_ground_m, worst_flights=worst_flights,
                 launch_rotation=str(launch_rotation), second_effect=bool(second_effect), profile=bool(profile),
                 profile_min_gliders=profile_min_gliders, profiled_candidates=profiled_candidates,
