@@ -44,13 +44,10 @@ std::vector<Effect> parse_effect_list(const std::string& s) {
   std::string item;
   while (std::getline(ss, item, ',')) {
     if (item.empty()) continue;
-    const Effect e = effect_from_name(item);
-    // refused here, before the dataset is read, as diagnose() would after
-    if (std::find(out.begin(), out.end(), e) != out.end())
-      throw InputError("--effects: candidate effect '" + item + "' is listed twice");
-    out.push_back(e);
+    out.push_back(effect_from_name(item));
   }
   if (out.empty()) throw InputError("--effects needs at least one effect name");
+  check_candidate_effects(out, "--effects: ");  // before the dataset is read, as diagnose() would after
   return out;
 }
 
@@ -317,9 +314,10 @@ int run_diagnose(const std::vector<std::string>& argv) {
   const bool quiet = a.flag("--quiet");
   std::set<std::string> flown;
   for (const auto& f : d.flights) flown.insert(f.glider);
-  // (fewer than 3 gliders: diagnose() refuses the dataset, and a header
-  // saying "1 folds" would only stand before its message)
-  if (!quiet && flown.size() >= 3) {
+  // (fewer gliders: diagnose() refuses the dataset, and a header saying
+  // "1 folds" would only stand before its message)
+  const bool enough = flown.size() >= static_cast<std::size_t>(kMinDiagnosisGliders);
+  if (!quiet && enough) {
     // leave-gliders-out: at most one fold per glider with flights
     const int folds = std::min<int>(o.folds, static_cast<int>(flown.size()));
     std::cerr << "pteromys diagnose: " << d.flights.size() << " flights of " << flown.size() << " gliders, "
@@ -329,7 +327,7 @@ int run_diagnose(const std::vector<std::string>& argv) {
   }
   // a value the verdict rests on, assumed: said even with --quiet, which
   // stops progress, not warnings (not before a refusal of the dataset)
-  if (flown.size() >= 3)
+  if (enough)
     for (const auto& k : d.defaulted)
       std::cerr << "pteromys diagnose: warning: " << path << " gives no " << k << "; " << defaulted_value(d, k)
                 << " is assumed"

@@ -401,9 +401,7 @@ void bind_diagnose(py::module_& m) {
         // result written before lacks them. It is taken as made with their
         // defaults (the runs archived in bench/diagnosis were) when this
         // search uses the defaults too, and refused otherwise.
-        DiagnoseOptions plain;
-        if (auto fp = std::dynamic_pointer_cast<const FlatPlateModel>(default_model())) plain.fit.prior = fp->params();
-        const json defaults = diagnosis_options_json(plain);
+        const json defaults = diagnosis_options_json(options_from(py::dict()));
         std::string differ;
         for (const auto& [key, value] : here.items()) {
           if (key == "theory_starts" || key == "escalate") continue;

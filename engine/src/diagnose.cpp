@@ -793,6 +793,12 @@ bool launch_rotation_per_flight_from(const std::string& value, const std::string
   return value == "per-flight";
 }
 
+void check_candidate_effects(const std::vector<Effect>& effects, const std::string& where) {
+  std::set<Effect> seen;
+  for (Effect e : effects)
+    if (!seen.insert(e).second) throw InputError(where + "candidate effect '" + effect_name(e) + "' is listed twice");
+}
+
 namespace {
 // Every effect of an "EFFECT=V[:V2]" list once, with as many values as it
 // has parameters (--oracle, --plausible).
@@ -908,11 +914,7 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   const auto t0 = Clock::now();
   if (o.folds < 2) throw InputError("the number of folds must be at least 2");
   if (o.effects.empty()) throw InputError("no candidate effects to test");
-  {
-    std::set<Effect> seen;
-    for (Effect e : o.effects)
-      if (!seen.insert(e).second) throw InputError("candidate effect '" + effect_name(e) + "' is listed twice");
-  }
+  check_candidate_effects(o.effects);
   if (!(o.alpha > 0 && o.alpha < 1)) throw InputError("the significance level must be in (0, 1)");
   if (!(o.min_shrink >= 0 && o.min_shrink < 1)) throw InputError("the shrink margin must be in [0, 1)");
   if (!(o.none_tolerance >= 0) || !std::isfinite(o.none_tolerance))
@@ -932,8 +934,9 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
   std::vector<int> flown;
   for (std::size_t g = 0; g < D.gliders().size(); ++g)
     if (!D.gliders()[g].flights.empty()) flown.push_back(static_cast<int>(g));
-  if (flown.size() < 3)
-    throw InputError("leave-gliders-out diagnosis needs flights of at least 3 gliders; the dataset has " +
+  if (flown.size() < static_cast<std::size_t>(kMinDiagnosisGliders))
+    throw InputError("leave-gliders-out diagnosis needs flights of at least " + std::to_string(kMinDiagnosisGliders) +
+                     " gliders; the dataset has " +
                      std::to_string(flown.size()));
   std::sort(flown.begin(), flown.end(), [&](int a, int b) {
     const double ra = D.gliders()[a].features.main_aspect_ratio, rb = D.gliders()[b].features.main_aspect_ratio;

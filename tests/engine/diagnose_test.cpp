@@ -2515,3 +2515,24 @@ TEST(Diagnose, OptionsRecordTheSpacingIterationsAndStartModel) {
   ASSERT_TRUE(d.start);
   EXPECT_NE(diagnosis_options_json(d)["model"]["fingerprint"], jc["model"]["fingerprint"]);
 }
+
+// Each candidate once: the command's --effects and diagnose() share the
+// check, which names the repeated effect after the caller's prefix.
+TEST(Diagnose, ACandidateNamedTwiceIsRefused) {
+  EXPECT_NO_THROW(check_candidate_effects({Effect::Wind, Effect::Camera}));
+  EXPECT_NO_THROW(check_candidate_effects({}));
+  try {
+    check_candidate_effects({Effect::Wind, Effect::Camera, Effect::Wind}, "--effects: ");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "--effects: candidate effect 'wind' is listed twice");
+  }
+  DiagnoseOptions o;
+  o.effects = {Effect::Camera, Effect::Camera};
+  try {
+    diagnose(Dataset{}, o);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "candidate effect 'camera' is listed twice");
+  }
+}

@@ -909,6 +909,13 @@ std::string effect_note(const EffectResult& r, const DiagnoseOptions& o, bool ow
 /// (false); anything else is an InputError naming `option`.
 bool launch_rotation_per_flight_from(const std::string& value, const std::string& option);
 
+/// The fewest gliders with flights that leave-gliders-out diagnosis takes.
+inline constexpr int kMinDiagnosisGliders = 3;
+/// Candidates each named once; otherwise InputError "<where>candidate effect
+/// 'NAME' is listed twice" (diagnose() checks its options with it; the
+/// command checks --effects before the dataset is read).
+void check_candidate_effects(const std::vector<Effect>& effects, const std::string& where = "");
+
 /// Runs the diagnosis. Throws InputError for unusable input: an invalid
 /// dataset, flights of fewer than 3 gliders (leave-gliders-out needs
 /// training and held-out gliders), unknown or repeated candidates, bad options.
