@@ -103,7 +103,8 @@ def diagnose(dataset, folds=4, effects=None, trim=True, model=None, alpha=0.01, 
     ``--leader-reached``, ``--no-heldout-fold-start``,
     ``--theory-starts``, ``--hold-theory``, ``--insertion-tries``, ``--step-per-flight``,
     ``--no-unstepped-refit``, ``--oracle`` and ``--plausible``
-    (docs/diagnosis.md, *Using it*).
+    (docs/diagnosis.md, *Using it* for ``oracle`` and ``plausible``,
+    *The search's parts and their switches* for the rest).
     ``stability`` (default 0: none): run the diagnosis this many times in
     all (2 to 7), the re-runs with the simulation step changed by 5 %,
     10 %, ... either way, and report whether the verdict stayed the same
