@@ -837,6 +837,37 @@ def test_the_documented_options_are_the_commands():
         [o for o in sorted(offered) if not described(o)]
 
 
+def test_the_documented_python_keywords_are_the_calls():
+    """docs/diagnosis.md ("Python") says the keywords of pteromys.diagnose
+    are the command's options with _ for - (--no-X is X=False), and names
+    the exceptions. Every option --help lists, but those that only the
+    command has (the output files, --quiet), must so be a keyword of the
+    call, and each exception the page names must be the call's."""
+    import inspect
+    import pteromys
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    using = text.split("## Using it", 1)[1].split("\n## ", 1)[0]
+    para = using.split("The keywords are the command's options", 1)[1].split("\n\n", 1)[0]
+    para = " ".join(para.split())
+    exceptions = dict(re.findall(r"`(--[a-z-]+)` (?:is )?`([a-z_0-9]+)(?:=False)?`", para.split("except:", 1)[1]))
+    assert {"--no-holdout-test", "--no-second-round", "--launch-window", "--near-ground"} <= set(exceptions), exceptions
+    params = set(inspect.signature(pteromys.diagnose).parameters)
+    r = run(["diagnose", "--help"])
+    offered = set(re.findall(r"^\s+(--[a-z][a-z-]*)", r.stdout, re.M))
+    command_only = {"--json", "--report", "--quiet"}
+    missing = []
+    for o in sorted(offered - command_only):
+        if o in exceptions:
+            kw = exceptions[o]
+        elif o.startswith("--no-"):
+            kw = o[len("--no-"):].replace("-", "_")
+        else:
+            kw = o[2:].replace("-", "_")
+        if kw not in params:
+            missing.append((o, kw))
+    assert not missing, missing
+
+
 def test_python_call_accepts_every_option_the_engine_reads():
     """The wrapper's keyword list is written by hand beside the binding that
     reads the options (engine/python/bind_diagnose.cpp, options_from): an
