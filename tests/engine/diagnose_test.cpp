@@ -122,6 +122,11 @@ std::string second_effect_found(const DiagnoseResult& r, const std::string& a, c
           << e.given_verdict.note;
     }
   EXPECT_TRUE(r.replaced.empty()) << r.replaced;
+  // The summary offers `also` as a lead, not as a second effect shown (on
+  // the blind benchmark's single-effect flights most entries were wrong).
+  EXPECT_NE(r.summary.find(other + " (" ), std::string::npos) << r.summary;
+  EXPECT_NE(r.summary.find("perhaps a second effect, perhaps what " + r.verdict + "'s fit left"), std::string::npos)
+      << r.summary;
   return other;
 }
 
