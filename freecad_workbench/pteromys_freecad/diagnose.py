@@ -228,7 +228,7 @@ def summary_text(result):
     """A few lines for a message box: verdict, summary and the best effects."""
     lines = ["Verdict: %s" % result["verdict"], "", result.get("summary", ""), ""]
     if result.get("also"):
-        lines[1:1] = ["Also present: %s" % ", ".join(result["also"])]
+        lines[1:1] = ["Also significant beside it (a lead to test, not shown): %s" % ", ".join(result["also"])]
     if result.get("alternatives"):
         lines[1:1] = ["Cannot be told apart from it: %s" % ", ".join(result["alternatives"])]
     if result.get("withheld"):

@@ -295,6 +295,21 @@ def test_report_names_an_effect_the_identifiability_preference_passed_over(tmp_p
     assert "Passed over: camera" in open(page).read()
 
 
+def test_report_offers_also_as_a_lead_not_a_second_effect_shown(tmp_path, camera_case):
+    """An `also` entry is significant beside the verdict's effect, but on
+    the blind benchmark's single-effect flights most such entries were
+    wrong (docs/diagnosis.md, "A second effect"): the page says it is a
+    lead, not that the effect is present."""
+    import copy
+    import pteromys
+    j = copy.deepcopy(camera_case[1])
+    j["also"] = ["wind"]
+    page = pteromys.diagnosis_report(j, tmp_path / "rep")
+    md = (tmp_path / "rep" / "report.md").read_text()
+    assert "Also significant when added to the verdict's effect (a lead to test, not a second effect shown): wind." in md
+    assert "Also present" not in md and "Also present" not in open(page).read()
+
+
 def test_every_effect_says_whether_its_strength_was_held_and_the_report_shows_it(tmp_path, camera_case):
     """`strength_held` (a theoretical-size start kept at 1) is in every effect,
     false without theoretical-size starts; a held strength is marked on the page."""

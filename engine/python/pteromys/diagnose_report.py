@@ -226,7 +226,8 @@ def render(r, out, quiet=True):
         "phases": "Residuals by flight phase", "gliders": "Residuals by glider", "effects": "Ranked effects",
         "error_vs_time": "Error along the flights", "worst_flights": "Worst flights before and after"}
 
-    also = ("Also present (significant when added to the verdict's effect): %s." % ", ".join(r["also"])
+    also = ("Also significant when added to the verdict's effect (a lead to test, not a second effect shown): %s."
+            % ", ".join(r["also"])
             if r.get("also") else "")
     if r.get("alternatives"):
         also += (" " if also else "") + ("Cannot be told apart from the verdict with these data (the same misfit): "
