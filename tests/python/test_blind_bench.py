@@ -1428,3 +1428,30 @@ def test_second_effect_replay_says_when_also_is_partly_right(tmp_path, capsys):
     assert "runs with a second effect in `also` (the standard as built): 1" in out
     assert "partly right (pitch_damping; not in the truth: downwash)" in out
     assert "WRONG" not in out
+
+
+def test_the_second_search_time_factor_is_the_archives():
+    """The FreeCAD command tells a person how long a second search will take
+    as SECOND_SEARCH_FACTOR times the first search's own time
+    (freecad_workbench/pteromys_freecad/diagnose.py), and docs/diagnosis.md
+    gives the same range and its median. Both must be what the archived
+    second searches measured (bench/diagnosis/runs-escalate: the second
+    search's time, total less the first, over the first's), the smallest
+    and the largest ratio to a tenth."""
+    import glob
+    ratios = []  # second search / first search
+    for p in glob.glob(os.path.join(ROOT, "bench", "diagnosis", "runs-escalate", "*", "*.diagnosis.json.gz")):
+        with gzip.open(p, "rt", encoding="utf-8") as f:
+            r = json.load(f)
+        t = r.get("timings", {})
+        if not r.get("escalation", {}).get("ran") or not t.get("first_search_s"):
+            continue
+        ratios.append((t["total_s"] - t["first_search_s"]) / t["first_search_s"])
+    assert len(ratios) >= 20, len(ratios)
+    lo, hi = round(min(ratios), 1), round(max(ratios), 1)
+    src = open(os.path.join(ROOT, "freecad_workbench", "pteromys_freecad", "diagnose.py"), encoding="utf-8").read()
+    m = re.search(r"^SECOND_SEARCH_FACTOR = \(([0-9.]+), ([0-9.]+)\)", src, re.M)
+    assert m and (float(m.group(1)), float(m.group(2))) == (lo, hi), (m and m.groups(), lo, hi)
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    assert "%.1f–%.1f times" % (lo, hi) in text, (lo, hi)
+    assert "median %.1f" % statistics.median(ratios) in text, statistics.median(ratios)
