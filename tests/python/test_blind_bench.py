@@ -1438,11 +1438,8 @@ def test_the_second_search_time_factor_is_the_archives():
     second searches measured (bench/diagnosis/runs-escalate: the second
     search's time, total less the first, over the first's), the smallest
     and the largest ratio to a tenth."""
-    import glob
     ratios = []  # second search / first search
-    for p in glob.glob(os.path.join(ROOT, "bench", "diagnosis", "runs-escalate", "*", "*.diagnosis.json.gz")):
-        with gzip.open(p, "rt", encoding="utf-8") as f:
-            r = json.load(f)
+    for _, _, r in rb.archived(rb.ARCHIVE_ESCALATE):
         t = r.get("timings", {})
         if not r.get("escalation", {}).get("ran") or not t.get("first_search_s"):
             continue
