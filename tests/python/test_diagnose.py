@@ -463,6 +463,46 @@ def test_profiled_starts_are_the_default_and_can_be_switched_off(tmp_path, camer
     assert [e["name"] for e in j["effects"] if e["significant"]] == []
 
 
+def test_the_screen_replay_places_the_candidates_the_engine_refitted(tmp_path, camera_case):
+    """bench/diagnosis/screen_places.py replays, from a result's stored
+    linearised gains, which candidates each profiled fit refitted from their
+    step (the blind archive's what-ifs of --profiled-candidates rest on it).
+    Its lists must be the engine's own, in the engine's order, as the
+    progress lines name them: on the camera flights with profiled fits on
+    the five gliders (--profile-min-gliders 3) and two places, so that the
+    places run out and the order (passing gains, carried, the rest) tells."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location(
+        "screen_places", os.path.join(ROOT, "bench", "diagnosis", "screen_places.py"))
+    sp = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(sp)
+    ds = camera_case[0]
+    out = tmp_path / "d.json"
+    r = run(["diagnose", ds, "--json", out, "--profile-min-gliders", "3", "--profiled-candidates", "2"] + FAST)
+    assert r.returncode == 0, r.stderr[-3000:]
+    j = load(out)
+    engine = {}
+    for line in r.stderr.splitlines():
+        m = re.search(r"\] \(\d+/\d+\) (all gliders|fold (\d+)/\d+): candidates refitted from the linearised step "
+                      r"with the centre values: (.*)$", line)
+        if m:
+            key = "all" if m.group(2) is None else int(m.group(2)) - 1
+            assert key not in engine, "two screens of one fit: " + line
+            listed = m.group(3).split("; largest under the threshold:")[0]
+            engine[key] = re.findall(r"(\w+) \(linearised delta chi2", listed)
+    assert sorted(engine, key=str) == sorted(["all", 0, 1, 2], key=str), r.stderr[-3000:]
+    on_all, in_folds = sp.places_of(j, 2)
+    assert on_all == engine["all"]
+    assert in_folds == [engine[i] for i in range(3)]
+    # the places ran out somewhere (else the order would not be tested)
+    assert any(len(f) == 2 for f in in_folds), in_folds
+    # chi-square quantiles of the screen against published tables (5 %: 3.841, 5.991; 0.1 %: 10.83, 13.82)
+    assert sp.chi2_isf(0.05, 1) == pytest.approx(3.841, abs=1e-3)
+    assert sp.chi2_isf(0.05, 2) == pytest.approx(5.991, abs=1e-3)
+    assert sp.chi2_isf(0.001, 1) == pytest.approx(10.83, abs=1e-2)
+    assert sp.chi2_isf(0.001, 2) == pytest.approx(13.82, abs=1e-2)
+
+
 def test_the_camera_is_plausible_within_the_librarys_limits(camera_case):
     """The truth (scale error 0.09, roll 6 degrees) is inside the library's
     plausible camera (15 %, 10 degrees: docs/capture.md), so the fit that
