@@ -1452,3 +1452,40 @@ def test_the_second_search_time_factor_is_the_archives():
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
     assert "%.1f–%.1f times" % (lo, hi) in text, (lo, hi)
     assert "median %.1f" % statistics.median(ratios) in text, statistics.median(ratios)
+
+
+# bench/diagnosis/screen_places.py: where one more profiled place would have
+# changed the true effect's starts (its replay is checked against the
+# engine's own progress lines in test_diagnose.py).
+def test_screen_places_counts_match_the_document():
+    m = _bench_module("screen_places")
+    counts = {}
+    for name, _, _, verdict, a, b in m.rows(rb.ARCHIVE, 3):
+        if a != b:
+            size = 20 if name.endswith("-g20") else 8
+            hit = verdict == rb.case_of(name)["truth"][0]
+            counts.setdefault(size, [0, 0])[0 if hit else 1] += 1
+    with open(os.path.join(ROOT, "bench", "diagnosis", "blind_results.md")) as f:
+        text = re.sub(r"\s+", " ", f.read())
+    m_ = re.search(r"a fourth place changes the true effect's starts in (\d+) hits and (\d+) misses at 20 gliders "
+                   r"and in (\d+) hit and (\d+) misses at 8", text)
+    assert m_, "the screen replay paragraph of blind_results.md is missing or reworded"
+    assert [int(x) for x in m_.groups()] == counts[20] + counts[8]
+
+
+def test_screen_places_worked_by_hand():
+    # Nine candidates, alpha 0.01: the one-parameter threshold is
+    # chi2_isf(0.01 / 9, 1) = 10.6 (3.26 squared), the two-parameter one
+    # -2 ln(0.01 / 9) = 13.6.
+    m = _bench_module("screen_places")
+    assert m.chi2_isf(0.01 / 9, 1) == pytest.approx(3.2608 ** 2, rel=1e-3)
+    dofs = {"a": 1, "b": 1, "c": 2, "d": 1, "e": 1}
+    # on all gliders only the passing gains, largest first (c: 13 < 13.6 fails)
+    assert m.places({"a": 11, "b": 50, "c": 13, "d": 2, "e": None}, dofs, 0.01, 9, 3) == ["b", "a"]
+    # in a fold: passing (b), then carried (a, even at a negative gain), then
+    # any other positive gain (c before d); e unscreened
+    fold = {"a": -1, "b": 40, "c": 9, "d": 3, "e": None}
+    assert m.places(fold, dofs, 0.01, 9, 4, {"a"}, 1.0) == ["b", "a", "c", "d"]
+    assert m.places(fold, dofs, 0.01, 9, 2, {"a"}, 1.0) == ["b", "a"]
+    # a stricter fold screen (step_alpha 0.5: chi2_isf(0.5 / 9, 1) = 3.66) drops d
+    assert m.places(fold, dofs, 0.01, 9, 4, {"a"}, 0.5) == ["b", "a", "c"]
