@@ -3062,8 +3062,8 @@ DiagnoseResult diagnose_once(const Dataset& d, const DiagnoseOptions& o, const D
             << pct(x.given_verdict.shrink) << " further)";
         }
         // Not "a second effect shown": on the blind benchmark's flights of
-        // one effect, 4 of the 5 runs with an `also` held only wrong entries
-        // (docs/diagnosis.md, "A second effect").
+        // one effect, most runs with an `also` held only wrong entries
+        // (docs/diagnosis.md, "A second effect", keeps the count).
         s << (res.also.size() > 1 ? " also explain" : " also explains") << " what is left: perhaps a second effect, "
           << "perhaps what " << b.name << "'s fit left for another correction to take up (on simulated flights of "
           << "one effect most such entries were wrong); flights that tell them apart would decide.";
