@@ -128,6 +128,18 @@ def rows(archive=ARCHIVE, n=3):
     return out
 
 
+def changes(rows):
+    """{20 or 8 (gliders): {"hit": [case], "miss": [case]}}: the runs of
+    rows() whose truth's starts the extra place changes, by whether the
+    archived verdict was the truth."""
+    out = {}
+    for name, _, truth, verdict, a, b in rows:
+        if a != b:
+            size = 20 if name.endswith("-g20") else 8
+            out.setdefault(size, {"hit": [], "miss": []})["hit" if verdict == truth else "miss"].append(name)
+    return out
+
+
 def marks(placed):
     on_all, folds = placed
     return ("A" if on_all else "-") + "".join("x" if f else "." for f in folds)
@@ -150,13 +162,10 @@ def main(argv=None):
                     pilot[name] = json.load(f)
     print("truth's places: A = on all gliders, then one mark per fold (x = a place); "
           "%d places, then %d" % (n, n + 1))
-    changed = {}
-    for name, commit, truth, verdict, a, b in rows(args.archive, n):
+    found = rows(args.archive, n)
+    for name, commit, truth, verdict, a, b in found:
         hit = verdict == truth
         moved = a != b
-        size = "20 gliders" if name.endswith("-g20") else "8 gliders"
-        if moved:
-            changed.setdefault(size, {"hit": [], "miss": []})["hit" if hit else "miss"].append(name)
         extra = ""
         if name in pilot:
             pr = pilot[name]
@@ -164,8 +173,8 @@ def main(argv=None):
                                        " (right)" if pr.get("verdict") == truth else "")
         print("%-28s %s %-15s %-4s %s -> %s%s%s" % (name, commit, verdict, "hit" if hit else "miss", marks(a),
                                                     marks(b), "  changes" if moved else "", extra))
-    for size, d in sorted(changed.items()):
-        print("%s: the extra place changes the truth's starts in %d hits and %d misses (%s)"
+    for size, d in sorted(changes(found).items(), reverse=True):
+        print("%d gliders: the extra place changes the truth's starts in %d hits and %d misses (%s)"
               % (size, len(d["hit"]), len(d["miss"]), ", ".join(d["miss"]) or "no miss"))
     for name, pr in sorted(pilot.items()):
         c = case_of(name)

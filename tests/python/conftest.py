@@ -4,6 +4,7 @@ Run through ctest (which sets PYTHONPATH and PTEROMYS_BIN) or with
 ``PYTHONPATH=build/python /usr/bin/python3 -m pytest tests/python``.
 """
 import glob
+import importlib.util
 import json
 import os
 import subprocess
@@ -42,6 +43,15 @@ def run(args, **kw):
 def load(path):
     with open(path) as f:
         return json.load(f)
+
+
+def bench_module(name):
+    """A fresh import of bench/diagnosis/NAME.py (the bench scripts are not a
+    package)."""
+    spec = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "bench", "diagnosis", name + ".py"))
+    m = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(m)
+    return m
 
 
 def broken_cases():

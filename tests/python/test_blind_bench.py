@@ -9,7 +9,6 @@ roll, the launch rotation's nominal rate), not against the script itself; the
 counts against tables worked out by hand from made-up diagnosis results.
 """
 import collections
-import importlib.util
 import gzip
 import json
 import math
@@ -23,10 +22,9 @@ import tempfile
 import pytest
 
 from conftest import ROOT, run
+from conftest import bench_module as _bench_module
 
-spec = importlib.util.spec_from_file_location("run_blind", os.path.join(ROOT, "bench", "diagnosis", "run_blind.py"))
-rb = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(rb)
+rb = _bench_module("run_blind")
 
 
 def test_every_listed_case_is_found_again_from_its_name():
@@ -242,19 +240,7 @@ def test_summary_tells_a_right_answer_without_a_gap_from_a_wrong_one_and_counts_
 
 # bench/diagnosis/rule_replay.py: the per-effect decision replayed on stored
 # diagnoses, and alternatives to it.
-def _bench_module(name):
-    """A fresh import of bench/diagnosis/NAME.py (the bench scripts are not a
-    package)."""
-    spec_m = importlib.util.spec_from_file_location(name, os.path.join(ROOT, "bench", "diagnosis", name + ".py"))
-    m = importlib.util.module_from_spec(spec_m)
-    spec_m.loader.exec_module(m)
-    return m
-
-
-rr_spec = importlib.util.spec_from_file_location("rule_replay",
-                                                 os.path.join(ROOT, "bench", "diagnosis", "rule_replay.py"))
-rr = importlib.util.module_from_spec(rr_spec)
-rr_spec.loader.exec_module(rr)
+rr = _bench_module("rule_replay")
 
 
 def _stored(name, lr_pass, shrink, cv_delta, significant, collinearity=0.5, robust=0.1, improved=6):
@@ -1459,12 +1445,7 @@ def test_the_second_search_time_factor_is_the_archives():
 # engine's own progress lines in test_diagnose.py).
 def test_screen_places_counts_match_the_document():
     m = _bench_module("screen_places")
-    counts = {}
-    for name, _, _, verdict, a, b in m.rows(rb.ARCHIVE, 3):
-        if a != b:
-            size = 20 if name.endswith("-g20") else 8
-            hit = verdict == rb.case_of(name)["truth"][0]
-            counts.setdefault(size, [0, 0])[0 if hit else 1] += 1
+    counts = {size: [len(d["hit"]), len(d["miss"])] for size, d in m.changes(m.rows(rb.ARCHIVE, 3)).items()}
     with open(os.path.join(ROOT, "bench", "diagnosis", "blind_results.md")) as f:
         text = re.sub(r"\s+", " ", f.read())
     m_ = re.search(r"a fourth place changes the true effect's starts in (\d+) hits and (\d+) misses at 20 gliders "
@@ -1479,6 +1460,11 @@ def test_screen_places_worked_by_hand():
     # -2 ln(0.01 / 9) = 13.6.
     m = _bench_module("screen_places")
     assert m.chi2_isf(0.01 / 9, 1) == pytest.approx(3.2608 ** 2, rel=1e-3)
+    # against published tables (5 %: 3.841, 5.991; 0.1 %: 10.83, 13.82)
+    assert m.chi2_isf(0.05, 1) == pytest.approx(3.841, abs=1e-3)
+    assert m.chi2_isf(0.05, 2) == pytest.approx(5.991, abs=1e-3)
+    assert m.chi2_isf(0.001, 1) == pytest.approx(10.83, abs=1e-2)
+    assert m.chi2_isf(0.001, 2) == pytest.approx(13.82, abs=1e-2)
     dofs = {"a": 1, "b": 1, "c": 2, "d": 1, "e": 1}
     # on all gliders only the passing gains, largest first (c: 13 < 13.6 fails)
     assert m.places({"a": 11, "b": 50, "c": 13, "d": 2, "e": None}, dofs, 0.01, 9, 3) == ["b", "a"]

@@ -11,7 +11,6 @@ gliders thrown at 1-1.3 times their glide speed, 30-45 points at 30 fps,
 1 cm noise), flown with the fitted coefficient model.
 """
 import importlib
-import importlib.util
 import inspect
 import math
 import os
@@ -19,7 +18,7 @@ import os
 import numpy as np
 
 import pteromys
-from conftest import ROOT, run
+from conftest import ROOT, bench_module, run
 
 NOISE_M = 0.01  # the blind protocol's tracking noise (what `pteromys track` measures on video)
 GLIDERS = ["t01-rectangular", "t03-rectangular-long", "t04-tapered-mild", "t06-swept-15",
@@ -28,10 +27,7 @@ GLIDERS = ["t01-rectangular", "t03-rectangular-long", "t04-tapered-mild", "t06-s
 
 
 def _dt_error():
-    spec = importlib.util.spec_from_file_location("dt_error", os.path.join(ROOT, "bench", "diagnosis", "dt_error.py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return bench_module("dt_error")
 
 
 def _rms(e):
