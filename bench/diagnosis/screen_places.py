@@ -19,7 +19,9 @@ that screen, as engine/src/diagnose.cpp's step screen orders it:
   laxer screen (`step_alpha`: at 1, any positive gain), each group largest
   first;
 
-and the first N of that list get a place. For each archived single-effect
+and the first N of that list get a place. `--carried-first` weighs an
+order that is not the engine's (in a fold the carried candidates first,
+whether they pass there or not), with `--then M` places. For each archived single-effect
 run (the newest of each case, first searches only) it prints whether the
 true effect had a place on all gliders and in each fold with N places and
 with N + 1, the verdict, and whether the extra place changes the truth's
@@ -57,10 +59,13 @@ def chi2_isf(p, dof):
     raise ValueError("no closed form here for %d degrees of freedom" % dof)
 
 
-def places(gains, dofs, alpha, n_candidates, n, carried=None, step_alpha=1.0):
+def places(gains, dofs, alpha, n_candidates, n, carried=None, step_alpha=1.0, carried_first=False):
     """The candidates given one of `n` places: `gains` {name: linearised
     Delta chi2, None when not screened}; `carried` None on all gliders, else
-    the names given a place there (a fold)."""
+    the names given a place there (a fold). `carried_first` (not the
+    engine's order, an alternative to weigh): in a fold the carried
+    candidates come first, passing or not, then the other passing gains,
+    then the other positive ones."""
     strict, car, weak = [], [], []
     for name, g in gains.items():
         if g is None:
@@ -71,20 +76,21 @@ def places(gains, dofs, alpha, n_candidates, n, carried=None, step_alpha=1.0):
                 strict.append((g, name))
             continue
         lax = 0.0 if step_alpha >= 1 else chi2_isf(step_alpha / n_candidates, dofs[name])
-        if passes_strict:
-            strict.append((g, name))
-        elif name in carried:
+        if name in carried and (carried_first or not passes_strict):
             car.append((g, name))
+        elif passes_strict:
+            strict.append((g, name))
         elif g > lax:
             weak.append((g, name))
-    ordered = [name for group in (strict, car, weak) for _, name in sorted(group, reverse=True)]
+    groups = (car, strict, weak) if carried_first and carried is not None else (strict, car, weak)
+    ordered = [name for group in groups for _, name in sorted(group, reverse=True)]
     return ordered[:n]
 
 
-def places_of(result, n):
+def places_of(result, n, carried_first=False):
     """The candidates given a place with `n` places, as the screen orders
-    them: (on all gliders, [in fold i]); None when the result lacks the
-    stored gains."""
+    them (or with `carried_first`, see places): (on all gliders, [in fold
+    i]); None when the result lacks the stored gains."""
     effects = result["effects"]
     if any(e.get("fold_linearised_delta_chi2") is None for e in effects):
         return None
@@ -97,22 +103,24 @@ def places_of(result, n):
     carried = set(on_all) if opts.get("carry_steps", True) else set()
     folds = len(effects[0]["fold_linearised_delta_chi2"])
     in_folds = [places({e["name"]: e["fold_linearised_delta_chi2"][i] for e in effects}, dofs, alpha, len(effects), n,
-                       carried, step_alpha) for i in range(folds)]
+                       carried, step_alpha, carried_first) for i in range(folds)]
     return on_all, in_folds
 
 
-def replay(result, truth, n):
+def replay(result, truth, n, carried_first=False):
     """(truth placed on all gliders, [truth placed in fold i]) with n places;
     None when the result lacks the stored gains."""
-    p = places_of(result, n)
+    p = places_of(result, n, carried_first)
     if p is None:
         return None
     return truth in p[0], [truth in f for f in p[1]]
 
 
-def rows(archive=ARCHIVE, n=3):
+def rows(archive=ARCHIVE, n=3, then=None, carried_first=False):
     """One row per newest archived single-effect first search with stored
-    gains: (case, commit, truth, verdict, replay with n, with n + 1)."""
+    gains: (case, commit, truth, verdict, replay with n places in the
+    engine's order, with `then` places (default n + 1) in the engine's order
+    or, with `carried_first`, carried first in the folds)."""
     out = []
     for (name, _), (commit, path) in sorted(latest_runs([(archive, False)]).items()):
         case = case_of(name)
@@ -121,7 +129,7 @@ def rows(archive=ARCHIVE, n=3):
         with gzip.open(path, "rt") as f:
             r = json.load(f)
         truth = case["truth"][0]
-        a, b = replay(r, truth, n), replay(r, truth, n + 1)
+        a, b = replay(r, truth, n), replay(r, truth, n + 1 if then is None else then, carried_first)
         if a is None:
             continue
         out.append((name, commit, truth, r.get("verdict"), a, b))
@@ -140,6 +148,17 @@ def changes(rows):
     return out
 
 
+def direction(a, b):
+    """Whether the truth has more places (on all gliders and in the folds)
+    in replay b than in a: "gains", "loses", or "moves" (as many)."""
+    na, nb = int(a[0]) + sum(a[1]), int(b[0]) + sum(b[1])
+    return "gains" if nb > na else "loses" if nb < na else "moves"
+
+
+def count(n, word):
+    return "%d %s" % (n, word if n == 1 else word + ("es" if word.endswith("s") else "s"))
+
+
 def marks(placed):
     on_all, folds = placed
     return ("A" if on_all else "-") + "".join("x" if f else "." for f in folds)
@@ -151,8 +170,14 @@ def main(argv=None):
     ap.add_argument("--archive", default=ARCHIVE)
     ap.add_argument("--pilot", action="append", default=[],
                     help="a run_blind.py --out directory of runs made with one more place (repeatable)")
+    ap.add_argument("--then", type=int, help="the places to compare with (default --places + 1)")
+    ap.add_argument("--carried-first", action="store_true",
+                    help="compare with an order that is not the engine's: in a fold the candidates carried from "
+                         "all gliders first, then the other passing gains, then the other positive ones")
     args = ap.parse_args(argv)
     n = args.places
+    then = n + 1 if args.then is None else args.then
+    change = "the %s" % ("carried-first order with %d places" % then if args.carried_first else "extra place")
     pilot = {}
     for d in args.pilot:
         for name in sorted(os.listdir(d)):
@@ -161,8 +186,8 @@ def main(argv=None):
                 with open(p) as f:
                     pilot[name] = json.load(f)
     print("truth's places: A = on all gliders, then one mark per fold (x = a place); "
-          "%d places, then %d" % (n, n + 1))
-    found = rows(args.archive, n)
+          "%d places, then %d%s" % (n, then, ", carried first in the folds" if args.carried_first else ""))
+    found = rows(args.archive, n, then, args.carried_first)
     for name, commit, truth, verdict, a, b in found:
         hit = verdict == truth
         moved = a != b
@@ -173,9 +198,13 @@ def main(argv=None):
                                        " (right)" if pr.get("verdict") == truth else "")
         print("%-28s %s %-15s %-4s %s -> %s%s%s" % (name, commit, verdict, "hit" if hit else "miss", marks(a),
                                                     marks(b), "  changes" if moved else "", extra))
+    how = {name: direction(a, b) for name, _, _, _, a, b in found}
     for size, d in sorted(changes(found).items(), reverse=True):
-        print("%d gliders: the extra place changes the truth's starts in %d hits and %d misses (%s)"
-              % (size, len(d["hit"]), len(d["miss"]), ", ".join(d["miss"]) or "no miss"))
+        print("%d gliders: %s changes the truth's starts in %s and %s (%s); the truth loses places in %d of the "
+              "hits and %d of the misses"
+              % (size, change, count(len(d["hit"]), "hit"), count(len(d["miss"]), "miss"),
+                 ", ".join(d["miss"]) or "no miss",
+                 sum(how[x] == "loses" for x in d["hit"]), sum(how[x] == "loses" for x in d["miss"])))
     for name, pr in sorted(pilot.items()):
         c = case_of(name)
         if c is not None and not c["truth"]:

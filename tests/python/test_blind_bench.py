@@ -1452,6 +1452,17 @@ def test_screen_places_counts_match_the_document():
                    r"and in (\d+) hit and (\d+) misses at 8", text)
     assert m_, "the screen replay paragraph of blind_results.md is missing or reworded"
     assert [int(x) for x in m_.groups()] == counts[20] + counts[8]
+    # the carried-first alternative with four places (54th session)
+    found = m.rows(rb.ARCHIVE, 3, 4, carried_first=True)
+    how = {name: m.direction(a, b) for name, _, _, _, a, b in found}
+    ch = m.changes(found)
+    m_ = re.search(r"With the carried candidates first in the folds and four places, the true effect's starts change "
+                   r"in (\d+) hits and (\d+) misses at 20 gliders \(the truth loses places in (\d+) of those hits\) "
+                   r"and in (\d+) hits and (\d+) misses at 8 \(losing places in (\d+) of those hits\)", text)
+    assert m_, "the carried-first paragraph of blind_results.md is missing or reworded"
+    assert [int(x) for x in m_.groups()] == [
+        len(ch[20]["hit"]), len(ch[20]["miss"]), sum(how[x] == "loses" for x in ch[20]["hit"]),
+        len(ch[8]["hit"]), len(ch[8]["miss"]), sum(how[x] == "loses" for x in ch[8]["hit"])]
 
 
 def test_screen_places_worked_by_hand():
@@ -1475,3 +1486,8 @@ def test_screen_places_worked_by_hand():
     assert m.places(fold, dofs, 0.01, 9, 2, {"a"}, 1.0) == ["b", "a"]
     # a stricter fold screen (step_alpha 0.5: chi2_isf(0.5 / 9, 1) = 3.66) drops d
     assert m.places(fold, dofs, 0.01, 9, 4, {"a"}, 0.5) == ["b", "a", "c"]
+    # the carried-first alternative: a (carried, negative gain) before the
+    # passing b; on all gliders it changes nothing
+    assert m.places(fold, dofs, 0.01, 9, 2, {"a"}, 1.0, carried_first=True) == ["a", "b"]
+    assert m.places(fold, dofs, 0.01, 9, 4, {"a", "b"}, 1.0, carried_first=True) == ["b", "a", "c", "d"]
+    assert m.places({"a": 11, "b": 50, "c": 13}, dofs, 0.01, 9, 3, None, 1.0, carried_first=True) == ["b", "a"]
