@@ -177,7 +177,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     n = args.places
     then = n + 1 if args.then is None else args.then
-    change = "the %s" % ("carried-first order with %d places" % then if args.carried_first else "extra place")
+    change = ("the carried-first order with %d places" % then if args.carried_first else
+              "the extra place" if then == n + 1 else "%d places" % then)
     pilot = {}
     for d in args.pilot:
         for name in sorted(os.listdir(d)):
