@@ -82,7 +82,7 @@ def places(gains, dofs, alpha, n_candidates, n, carried=None, step_alpha=1.0, ca
             strict.append((g, name))
         elif g > lax:
             weak.append((g, name))
-    groups = (car, strict, weak) if carried_first and carried is not None else (strict, car, weak)
+    groups = (car, strict, weak) if carried_first else (strict, car, weak)  # on all gliders car is empty
     ordered = [name for group in groups for _, name in sorted(group, reverse=True)]
     return ordered[:n]
 
@@ -137,14 +137,18 @@ def rows(archive=ARCHIVE, n=3, then=None, carried_first=False):
 
 
 def changes(rows):
-    """{20 or 8 (gliders): {"hit": [case], "miss": [case]}}: the runs of
-    rows() whose truth's starts the extra place changes, by whether the
-    archived verdict was the truth."""
+    """{20 or 8 (gliders): {"hit": [case], "miss": [case], "lost_hit": n,
+    "lost_miss": n}}: the runs of rows() whose truth's starts the
+    alternative changes, by whether the archived verdict was the truth, and
+    how many of each in which the truth loses places (direction)."""
     out = {}
     for name, _, truth, verdict, a, b in rows:
         if a != b:
             size = 20 if name.endswith("-g20") else 8
-            out.setdefault(size, {"hit": [], "miss": []})["hit" if verdict == truth else "miss"].append(name)
+            kind = "hit" if verdict == truth else "miss"
+            d = out.setdefault(size, {"hit": [], "miss": [], "lost_hit": 0, "lost_miss": 0})
+            d[kind].append(name)
+            d["lost_" + kind] += direction(a, b) == "loses"
     return out
 
 
@@ -177,6 +181,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     n = args.places
     then = n + 1 if args.then is None else args.then
+    if n < 1 or then < 1:
+        ap.error("--places and --then must be at least 1 (got %d and %d)" % (n, then))
     change = ("the carried-first order with %d places" % then if args.carried_first else
               "the extra place" if then == n + 1 else "%d places" % then)
     pilot = {}
@@ -199,13 +205,12 @@ def main(argv=None):
                                        " (right)" if pr.get("verdict") == truth else "")
         print("%-28s %s %-15s %-4s %s -> %s%s%s" % (name, commit, verdict, "hit" if hit else "miss", marks(a),
                                                     marks(b), "  changes" if moved else "", extra))
-    how = {name: direction(a, b) for name, _, _, _, a, b in found}
     for size, d in sorted(changes(found).items(), reverse=True):
         print("%d gliders: %s changes the truth's starts in %s and %s (%s); the truth loses places in %d of the "
               "hits and %d of the misses"
               % (size, change, count(len(d["hit"]), "hit"), count(len(d["miss"]), "miss"),
                  ", ".join(d["miss"]) or "no miss",
-                 sum(how[x] == "loses" for x in d["hit"]), sum(how[x] == "loses" for x in d["miss"])))
+                 d["lost_hit"], d["lost_miss"]))
     for name, pr in sorted(pilot.items()):
         c = case_of(name)
         if c is not None and not c["truth"]:

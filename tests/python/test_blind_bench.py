@@ -1454,16 +1454,13 @@ def test_screen_places_counts_match_the_document():
     assert m_, "the screen replay paragraph of blind_results.md is missing or reworded"
     assert [int(x) for x in m_.groups()] == counts[20] + counts[8]
     # the carried-first alternative with four places (54th session)
-    found = m.rows(rb.ARCHIVE, 3, 4, carried_first=True)
-    how = {name: m.direction(a, b) for name, _, _, _, a, b in found}
-    ch = m.changes(found)
+    ch = m.changes(m.rows(rb.ARCHIVE, 3, 4, carried_first=True))
     m_ = re.search(r"With the carried candidates first in the folds and four places, the true effect's starts change "
                    r"in (\d+) hits and (\d+) misses at 20 gliders \(the truth loses places in (\d+) of those hits\) "
                    r"and in (\d+) hits and (\d+) misses at 8 \(losing places in (\d+) of those hits\)", text)
     assert m_, "the carried-first paragraph of blind_results.md is missing or reworded"
     assert [int(x) for x in m_.groups()] == [
-        len(ch[20]["hit"]), len(ch[20]["miss"]), sum(how[x] == "loses" for x in ch[20]["hit"]),
-        len(ch[8]["hit"]), len(ch[8]["miss"]), sum(how[x] == "loses" for x in ch[8]["hit"])]
+        len(ch[20]["hit"]), len(ch[20]["miss"]), ch[20]["lost_hit"], len(ch[8]["hit"]), len(ch[8]["miss"]), ch[8]["lost_hit"]]
 
 
 def test_screen_places_worked_by_hand():
@@ -1492,3 +1489,14 @@ def test_screen_places_worked_by_hand():
     assert m.places(fold, dofs, 0.01, 9, 2, {"a"}, 1.0, carried_first=True) == ["a", "b"]
     assert m.places(fold, dofs, 0.01, 9, 4, {"a", "b"}, 1.0, carried_first=True) == ["b", "a", "c", "d"]
     assert m.places({"a": 11, "b": 50, "c": 13}, dofs, 0.01, 9, 3, None, 1.0, carried_first=True) == ["b", "a"]
+    # direction counts the truth's places, on all gliders and in the folds
+    assert m.direction((False, [True, False]), (True, [True, False])) == "gains"
+    assert m.direction((True, [True, True]), (False, [True, False])) == "loses"
+    assert m.direction((False, [True, False]), (False, [False, True])) == "moves"
+    # changes: only rows whose replays differ, by size and verdict, with losses
+    rows = [("x-1-s1-g20", "c", "x", "x", (False, [True]), (False, [False])),   # a hit that loses
+            ("x-1-s2-g20", "c", "x", "y", (False, [False]), (True, [True])),    # a miss that gains
+            ("x-1-s3", "c", "x", "x", (True, [True]), (True, [True])),          # unchanged
+            ("x-1-s4", "c", "x", "none", (True, [False]), (False, [True]))]     # a miss that moves
+    assert m.changes(rows) == {20: {"hit": ["x-1-s1-g20"], "miss": ["x-1-s2-g20"], "lost_hit": 1, "lost_miss": 0},
+                               8: {"hit": [], "miss": ["x-1-s4"], "lost_hit": 0, "lost_miss": 0}}
