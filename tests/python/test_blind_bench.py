@@ -1500,3 +1500,25 @@ def test_screen_places_worked_by_hand():
             ("x-1-s4", "c", "x", "none", (True, [False]), (False, [True]))]     # a miss that moves
     assert m.changes(rows) == {20: {"hit": ["x-1-s1-g20"], "miss": ["x-1-s2-g20"], "lost_hit": 1, "lost_miss": 0},
                                8: {"hit": [], "miss": ["x-1-s4"], "lost_hit": 0, "lost_miss": 0}}
+
+
+def test_the_documented_20_glider_run_times_are_the_archives():
+    """'In short' gives the time of the archived 20-glider blind runs by
+    kind of case (the default search, each run's timings.total_s, in whole
+    minutes); they are read from bench/diagnosis/runs, so a run archived
+    outside a stated range makes the document follow."""
+    spans = collections.defaultdict(list)
+    for name, _, r in rb.archived(rb.ARCHIVE):
+        total = r.get("timings", {}).get("total_s")
+        if name.endswith(rb.WIDE) and total:
+            spans[name.split("-")[0]].append(total / 60.0)
+    text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
+    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    row = next(line for line in short.splitlines() if line.startswith("| time for 1–1.5 s recordings"))
+    for words, kind in (("nulls", "null"), ("the camera", "camera"), ("launch rotation", "launch_rotation"),
+                        ("finite span", "finite_span"), ("pitch damping", "pitch_damping")):
+        m = re.search(re.escape(words) + r" (\d+)–(\d+) min", row)
+        assert m, "'In short' does not give the 20-glider time of %s" % words
+        assert spans[kind], kind
+        assert (int(m.group(1)), int(m.group(2))) == (round(min(spans[kind])), round(max(spans[kind]))), (
+            kind, min(spans[kind]), max(spans[kind]))
