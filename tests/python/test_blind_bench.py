@@ -243,6 +243,16 @@ def test_summary_tells_a_right_answer_without_a_gap_from_a_wrong_one_and_counts_
 rr = _bench_module("rule_replay")
 
 
+def _in_short(text):
+    """docs/diagnosis.md's "In short" section, up to the next heading."""
+    return text.split("## In short", 1)[1].split("\n## ", 1)[0]
+
+
+def _met_cell(row):
+    """The last cell ("met?") of a row of the targets table."""
+    return row.rstrip().split("|")[-2].strip()
+
+
 def _stored(name, lr_pass, shrink, cv_delta, significant, collinearity=0.5, robust=0.1, improved=6):
     return {"name": name, "shrink": shrink, "significant": significant, "plausible": True,
             "coefficient_collinearity": collinearity,
@@ -477,13 +487,13 @@ def test_the_documented_top1_figures_are_the_tables_count():
     assert (int(stated.group(1)), int(stated.group(2))) == (hits, n)
     assert int(stated.group(3)) == round(100 * hits / n)
     # "In short"'s table gives the same count in its eight-glider column.
-    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    short = _in_short(text)
     cell = re.search(r"\| true effect named, default search \| (\d+) of (\d+) cases \((\d+) %\) \|", short)
     assert cell, "'In short' does not give the eight-glider top-1 count"
     assert tuple(int(g) for g in cell.groups()) == (hits, n, round(100 * hits / n))
     # The targets table's verdict cell gives the same count.
     row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
-    met = row.rstrip().split("|")[-2].strip()
+    met = _met_cell(row)
     assert met.startswith("no (%d of %d) on eight gliders;" % (hits, n)) or met.startswith(
         "yes (%d of %d) on eight gliders;" % (hits, n)), met
     assert met.startswith("yes") == (hits >= 0.9 * n)
@@ -953,7 +963,7 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     assert tuple(int(g) for g in rule.groups()) == (len(pb.wide_under_margin(wide)), named, nameable,
                                                     round(100 * named / nameable))
     # "In short" repeats the figure by the rule in its own words
-    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    short = _in_short(text)
     brief = re.search(r"\| true effect named, default search \| [^|]*\| (\d+) of (\d+) \((\d+) %\) \|", short)
     assert brief, "'In short' does not give the 20-glider figure by the table's rule"
     assert tuple(int(g) for g in brief.groups()) == (named, nameable, round(100 * named / nameable))
@@ -977,7 +987,7 @@ def test_the_documented_20_glider_tally_is_the_archives_count():
     assert brief2, "'In short' does not give the 20-glider figure with the second search"
     assert (int(brief2.group(1)), int(brief2.group(2)), brief2.group(3), brief2.group(4)) == (both, nameable, pct, side)
     # the targets table's "met?" cell says the same at the issue's size
-    met = row.rstrip().split("|")[-2].strip()
+    met = _met_cell(row)
     yes = lambda k: "yes" if k >= 0.9 * nameable else "no"
     assert met.endswith("at the issue's 20 gliders %s by default (%d of %d), %s with the second search (%d of %d)" % (
         yes(named), named, nameable, yes(both), both, nameable)), met
@@ -1170,7 +1180,7 @@ def test_the_documented_second_search_figure_is_the_archives_count():
         assert tuple(int(g) for g in s) == want
     row = next(line for line in text.splitlines() if line.startswith("| top-1 attribution"))
     assert re.search(pattern, row), "the top-1 row does not give the second search's archived figure"
-    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    short = _in_short(text)
     cell = re.search(r"\| with the second search \(`--escalate`\) \| (\d+) of (\d+) \((\d+) %\) \|", short)
     assert cell, "'In short' does not give the eight-glider figure with the second search"
     assert tuple(int(g) for g in cell.groups()) == (hits, len(rows), round(100 * hits / len(rows)))
@@ -1520,7 +1530,7 @@ def test_the_documented_20_glider_run_times_are_the_archives():
         if name.endswith(rb.WIDE) and total:
             spans[name.split("-")[0]].append(total / 60.0)
     text = open(os.path.join(ROOT, "docs", "diagnosis.md"), encoding="utf-8").read()
-    short = text.split("## In short", 1)[1].split("\n## ", 1)[0]
+    short = _in_short(text)
     row = next(line for line in short.splitlines() if line.startswith("| time for 1–1.5 s recordings"))
     for words, kind in (("nulls", "null"), ("the camera", "camera"), ("launch rotation", "launch_rotation"),
                         ("finite span", "finite_span"), ("pitch damping", "pitch_damping")):
