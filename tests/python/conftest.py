@@ -35,9 +35,11 @@ def examples():
     return EXAMPLES
 
 
-def run(args, **kw):
-    """Runs the pteromys command; returns CompletedProcess (text)."""
-    return subprocess.run([BIN] + [str(a) for a in args], capture_output=True, text=True, timeout=600, **kw)
+def run(args, timeout=600, **kw):
+    """Runs the pteromys command; returns CompletedProcess (text). The
+    timeout is a guard against a hung run, not a speed test (bench/ measures
+    speed): a call that runs several diagnoses in one process gives more."""
+    return subprocess.run([BIN] + [str(a) for a in args], capture_output=True, text=True, timeout=timeout, **kw)
 
 
 def load(path):

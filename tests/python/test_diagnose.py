@@ -629,7 +629,8 @@ def test_stability_check_reruns_the_diagnosis_at_a_changed_step(tmp_path, camera
     sentence and the report's section must say what the two verdicts say."""
     ds, plain, _, _ = camera_case
     out, rep = tmp_path / "st.json", tmp_path / "rep"
-    r = run(["diagnose", ds, "--json", out, "--report", rep, "--stability", "2"] + FAST)
+    # two diagnoses in one process (about 5.5 min under ctest -j2): twice the guard
+    r = run(["diagnose", ds, "--json", out, "--report", rep, "--stability", "2"] + FAST, timeout=1200)
     assert r.returncode == 0, r.stderr[-3000:]
     j = load(out)
     st = j["stability"]
